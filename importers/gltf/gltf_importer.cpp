@@ -1,0 +1,707 @@
+// glTF 2.0 into a Scene: tinygltf parses the JSON and loads buffers; everything it hands back
+// is treated as untrusted and checked here (references, ranges, counts) before use.
+#include "importers/gltf/gltf_importer.h"
+
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include <tiny_gltf.h>
+
+#include "importers/gltf/gltf_accessors.h"
+#include "importers/gltf/gltf_materials.h"
+
+namespace veach {
+namespace {
+
+namespace fs = std::filesystem;
+using gltf::GltfError;
+
+constexpr int k_max_node_depth = 1024;
+constexpr size_t k_max_node_visits = size_t(1) << 20;
+// tinygltf converts extension JSON to its Value type recursively; refuse nesting deep enough
+// to exhaust the stack before it gets there.
+constexpr int k_max_json_nesting = 512;
+constexpr uint64_t k_max_file_bytes = UINT_MAX;  // tinygltf takes 32-bit lengths
+
+// Extensions we read, and ones whose data we don't use yet but whose absence of support doesn't
+// change what a file means when they are only "used" (a plain material is the fallback).
+constexpr std::string_view k_supported_extensions[] = {
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
+    "KHR_materials_specular", "KHR_texture_transform", "KHR_mesh_quantization"};
+constexpr std::string_view k_planned_extensions[] = {
+    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
+    "KHR_materials_sheen", "KHR_materials_unlit", "KHR_materials_variants"};
+
+template <size_t N>
+bool contains(const std::string_view (&list)[N], const std::string& name) {
+    for (std::string_view s : list)
+        if (s == name) return true;
+    return false;
+}
+
+// Messages are one short line: tinygltf's errors come as several lines and may quote whole
+// base64 data URIs or the raw bytes near a JSON syntax error.
+std::string one_line(const std::string& text) {
+    constexpr size_t k_max_run = 48, k_max_length = 600;
+    auto is_base64 = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/'; };
+    std::string out;
+    size_t run = 0;  // length of the current base64-like run
+    for (char c : text) {
+        if (c == '\n' || c == '\r') {
+            if (!out.empty() && !out.ends_with("; ")) out += "; ";
+            run = 0;
+            continue;
+        }
+        run = is_base64(c) ? run + 1 : 0;
+        if (run > k_max_run) {
+            if (run == k_max_run + 1) out += "...";
+            continue;
+        }
+        out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+    }
+    while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+    if (out.size() > k_max_length) out = out.substr(0, k_max_length) + "...";
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// File access for tinygltf. It looks for an external file under the base directory we give it,
+// then under the process's working directory. We give it this marker instead of a directory so
+// resolve_uri can tell a URI from the working-directory fallback (never allowed) and apply our
+// rules: URIs stay inside the glTF's folder unless the caller allows external files.
+constexpr std::string_view k_uri_marker = "<veach-gltf-uri>/";
+
+struct UriPolicy {
+    fs::path base_dir;
+    bool allow_external = false;
+    std::string violation;  // the first refused URI, reported once tinygltf returns
+};
+
+std::string resolve_uri(const std::string& joined, void* user) {
+    auto* policy = static_cast<UriPolicy*>(user);
+    if (!joined.starts_with(k_uri_marker)) return {};
+    std::string uri = joined.substr(k_uri_marker.size());
+    // Data URIs of a type tinygltf doesn't decode, and remote URIs, are not files.
+    if (uri.empty() || uri.starts_with("data:") || uri.find("://") != std::string::npos) return {};
+    auto refuse = [&](const char* why) {
+        if (policy->violation.empty())
+            policy->violation = "URI '" + uri + "' " + why + "; refused (external files are not allowed)";
+        return std::string();
+    };
+    fs::path path(uri);
+    if (path.is_absolute()) return policy->allow_external ? path.string() : refuse("is an absolute path");
+    fs::path normal = path.lexically_normal();
+    if (!normal.empty() && *normal.begin() == ".." && !policy->allow_external)
+        return refuse("leads outside the scene's folder");
+    return (policy->base_dir / normal).string();
+}
+
+bool file_exists(const std::string& path, void*) {
+    std::error_code ec;
+    return !path.empty() && fs::is_regular_file(path, ec);
+}
+
+bool read_bytes(const std::string& path, std::vector<unsigned char>& out, std::string& error) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) {
+        error = std::strerror(errno);
+        return false;
+    }
+    std::streamoff size = in.tellg();
+    if (size < 0 || static_cast<uint64_t>(size) > k_max_file_bytes) {
+        error = "file too large";
+        return false;
+    }
+    out.resize(static_cast<size_t>(size));
+    in.seekg(0);
+    if (size > 0 && !in.read(reinterpret_cast<char*>(out.data()), size)) {
+        error = "read error";
+        return false;
+    }
+    return true;
+}
+
+bool read_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    std::string error;
+    if (read_bytes(path, *out, error)) return true;
+    if (err) *err += error;
+    return false;
+}
+
+bool refuse_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "writing is not supported";
+    return false;
+}
+
+// Images stay encoded until a rendered material uses them (MaterialConverter::decode). Images
+// in a bufferView are left in the buffer: tinygltf hands us a pointer it did not bounds-check,
+// so we must not touch it; the decoder reads the view after checking it.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void*) {
+    if (image->bufferView >= 0) return true;
+    if (size > 0) image->image.assign(bytes, bytes + size);
+    image->as_is = true;
+    return true;
+}
+
+bool is_glb(std::span<const uint8_t> bytes) {
+    return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+}
+
+// The JSON text of a .gltf, or the JSON chunk of a .glb (clamped; tinygltf checks the header).
+std::string_view json_text(std::span<const uint8_t> bytes, bool binary) {
+    const char* data = reinterpret_cast<const char*>(bytes.data());
+    if (!binary) return {data, bytes.size()};
+    if (bytes.size() < 20) return {};
+    uint32_t length;
+    std::memcpy(&length, data + 12, 4);
+    return {data + 20, std::min<size_t>(length, bytes.size() - 20)};
+}
+
+void check_json_nesting(std::string_view json) {
+    int depth = 0;
+    bool in_string = false, escaped = false;
+    for (char c : json) {
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '{' || c == '[') {
+            if (++depth > k_max_json_nesting)
+                throw GltfError("JSON nested deeper than " + std::to_string(k_max_json_nesting) + " levels");
+        } else if (c == '}' || c == ']') {
+            --depth;
+        }
+    }
+}
+
+bool all_finite(const std::vector<double>& values) {
+    for (double v : values)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
+bool all_finite(const Transform& t) {
+    for (const auto& row : t.m)
+        for (float v : row)
+            if (!std::isfinite(v)) return false;
+    return true;
+}
+
+// A KHR_lights_punctual light definition, before a node places it.
+struct LightDef {
+    std::string name;
+    std::optional<LightType> type;  // empty: unknown type, skipped
+    Rgb color{1, 1, 1};
+    double intensity = 1, range = 0;
+    double inner_cone = 0, outer_cone = k_pi / 4;
+};
+
+// ---------------------------------------------------------------------------------------------
+class GltfImporter {
+public:
+    GltfImporter(const std::string& base_dir, const ImportOptions& options) : m_options(options) {
+        m_uri_policy.base_dir = base_dir.empty() ? fs::path(".") : fs::path(base_dir);
+        m_uri_policy.allow_external = options.allow_external_files;
+    }
+
+    Scene run(std::span<const uint8_t> bytes, bool binary, const std::string& display_name) {
+        m_scene.source_path = display_name;
+        load(bytes, binary);
+        check_extensions();
+        m_materials = std::make_unique<gltf::MaterialConverter>(m_model, *m_context);
+        parse_lights();
+        m_mesh_entries.resize(m_model.meshes.size());
+        m_mesh_uses.assign(m_model.meshes.size(), 0);
+        m_visited.assign(m_model.nodes.size(), 0);
+        m_on_path.assign(m_model.nodes.size(), 0);
+        for (int root : root_nodes()) visit(root, Transform{}, 0);
+        finish();
+        return std::move(m_scene);
+    }
+
+private:
+    void load(std::span<const uint8_t> bytes, bool binary);
+    void check_extensions();
+    void parse_lights();
+    std::vector<int> root_nodes();
+    void visit(int node_index, const Transform& parent, int depth);
+    Transform local_transform(int node_index) const;
+    void place_mesh(int node_index, const Transform& world);
+    std::optional<Mesh> build_primitive(int mesh_index, int primitive_index);
+    std::vector<uint32_t> triangulate(int mode, const std::vector<uint32_t>& indices, const std::string& what);
+    void add_camera(int node_index, const Transform& world);
+    void add_light(int node_index, const tinygltf::Value& ref, const Transform& world);
+    void finish();
+    std::string node_label(int index) const {
+        const std::string& name = m_model.nodes[index].name;
+        return "node " + std::to_string(index) + (name.empty() ? "" : " '" + name + "'");
+    }
+
+    ImportOptions m_options;
+    UriPolicy m_uri_policy;
+    tinygltf::Model m_model;
+    Scene m_scene;
+    std::unique_ptr<gltf::ImportContext> m_context;
+    std::unique_ptr<gltf::MaterialConverter> m_materials;
+    std::vector<std::optional<std::vector<uint32_t>>> m_mesh_entries;  // glTF mesh -> Scene::meshes
+    std::vector<int> m_mesh_uses;
+    std::vector<uint8_t> m_visited, m_on_path;
+    size_t m_visits = 0;
+    std::vector<LightDef> m_lights;
+    SpotFalloff m_spot_falloff = SpotFalloff::Gltf;
+    size_t m_skipped_line_primitives = 0, m_dropped_triangles = 0;
+};
+
+void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
+    if (bytes.size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
+    check_json_nesting(json_text(bytes, binary));
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&keep_encoded_image, nullptr);
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{&file_exists, &resolve_uri, &read_file, &refuse_write, &m_uri_policy});
+    std::string err, warn;
+    const std::string base(k_uri_marker.substr(0, k_uri_marker.size() - 1));
+    auto size = static_cast<unsigned int>(bytes.size());
+    bool ok = binary ? loader.LoadBinaryFromMemory(&m_model, &err, &warn, bytes.data(), size, base)
+                     : loader.LoadASCIIFromString(&m_model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                  size, base);
+    if (!m_uri_policy.violation.empty()) throw GltfError(m_uri_policy.violation);
+    if (!ok) {
+        // nlohmann's parse errors start with an exception tag that means nothing to a user.
+        if (err.starts_with("[json.exception.") && err.find("] ") != std::string::npos)
+            err = "invalid JSON: " + err.substr(err.find("] ") + 2);
+        throw GltfError(one_line(err.empty() ? "cannot parse the file" : err));
+    }
+
+    uint64_t input_bytes = bytes.size();
+    for (const tinygltf::Buffer& b : m_model.buffers) input_bytes += b.data.size();
+    for (const tinygltf::Image& i : m_model.images) input_bytes += i.image.size();
+    m_context = std::make_unique<gltf::ImportContext>(m_scene, input_bytes);
+}
+
+void GltfImporter::check_extensions() {
+    for (const std::string& name : m_model.extensionsRequired)
+        if (!contains(k_supported_extensions, name)) throw GltfError("requires unsupported extension " + name);
+    for (const std::string& name : m_model.extensionsUsed)
+        if (!contains(k_supported_extensions, name) && !contains(k_planned_extensions, name))
+            m_context->warn("ignoring unsupported extension " + name);
+    if (!m_options.variant.empty())
+        m_context->warn("material variants are not supported yet; variant '" + m_options.variant + "' ignored");
+
+    switch (m_options.spot_profile) {
+        case SpotProfile::Blender: m_spot_falloff = SpotFalloff::Blender; break;
+        case SpotProfile::Gltf: m_spot_falloff = SpotFalloff::Gltf; break;
+        case SpotProfile::Auto:
+            // Blender writes cone angles for its own spot profile, which differs from glTF's.
+            m_spot_falloff = m_model.asset.generator.find("Blender") != std::string::npos ? SpotFalloff::Blender
+                                                                                          : SpotFalloff::Gltf;
+            break;
+    }
+}
+
+void GltfImporter::parse_lights() {
+    const tinygltf::Value* ext = gltf::json_extension(m_model.extensions, "KHR_lights_punctual");
+    const tinygltf::Value* lights = gltf::json_member(ext, "lights");
+    if (!lights || !lights->IsArray()) return;
+    for (size_t i = 0; i < lights->ArrayLen(); ++i) {
+        const tinygltf::Value& v = lights->Get(static_cast<int>(i));
+        LightDef def;
+        std::string label = "light " + std::to_string(i);
+        if (const tinygltf::Value* name = gltf::json_member(&v, "name"); name && name->IsString())
+            def.name = name->Get<std::string>();
+        const tinygltf::Value* type = gltf::json_member(&v, "type");
+        std::string type_name = type && type->IsString() ? type->Get<std::string>() : "";
+        if (type_name == "point") def.type = LightType::Point;
+        else if (type_name == "spot") def.type = LightType::Spot;
+        else if (type_name == "directional") def.type = LightType::Directional;
+        else m_context->warn(label + " has unknown type '" + type_name + "'; ignored");
+        double color[3] = {1, 1, 1};
+        if (gltf::json_member(&v, "color") && !gltf::json_numbers(gltf::json_member(&v, "color"), color, 3))
+            m_context->warn(label + " has an invalid color; using white");
+        def.color = Rgb(float(color[0]), float(color[1]), float(color[2]));
+        def.intensity = gltf::json_number(&v, "intensity", 1.0);
+        def.range = gltf::json_number(&v, "range", 0.0);
+        const tinygltf::Value* spot = gltf::json_member(&v, "spot");
+        def.inner_cone = gltf::json_number(spot, "innerConeAngle", 0.0);
+        def.outer_cone = gltf::json_number(spot, "outerConeAngle", k_pi / 4);
+        m_lights.push_back(def);
+    }
+}
+
+std::vector<int> GltfImporter::root_nodes() {
+    int count = static_cast<int>(m_model.scenes.size());
+    int index = m_options.scene_index;
+    if (index < -1 || index >= count || (index == -1 && m_model.defaultScene >= count))
+        throw GltfError("scene " + std::to_string(index == -1 ? m_model.defaultScene : index) +
+                        " does not exist (the file has " + std::to_string(count) + " scene" +
+                        (count == 1 ? "" : "s") + ")");
+    if (index == -1 && count > 0) index = m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
+    if (index >= 0) return m_model.scenes[index].nodes;
+
+    // No scenes: the spec leaves rendering to the application; show every root node.
+    if (m_model.nodes.empty()) return {};
+    m_context->warn("the file has no scenes; rendering all root nodes");
+    std::vector<uint8_t> has_parent(m_model.nodes.size(), 0);
+    for (const tinygltf::Node& node : m_model.nodes)
+        for (int child : node.children)
+            if (child >= 0 && static_cast<size_t>(child) < has_parent.size()) has_parent[child] = 1;
+    std::vector<int> roots;
+    for (size_t i = 0; i < has_parent.size(); ++i)
+        if (!has_parent[i]) roots.push_back(static_cast<int>(i));
+    return roots;
+}
+
+void GltfImporter::visit(int node_index, const Transform& parent, int depth) {
+    if (node_index < 0 || static_cast<size_t>(node_index) >= m_model.nodes.size())
+        throw GltfError("node " + std::to_string(node_index) + " does not exist (the file has " +
+                        std::to_string(m_model.nodes.size()) + " nodes)");
+    if (m_on_path[node_index]) throw GltfError("node " + std::to_string(node_index) + " is its own ancestor");
+    if (depth >= k_max_node_depth)
+        throw GltfError("node hierarchy is deeper than " + std::to_string(k_max_node_depth) + " levels");
+    if (++m_visits > k_max_node_visits)
+        throw GltfError("node hierarchy expands to more than " + std::to_string(k_max_node_visits) + " nodes");
+    if (m_visited[node_index] == 1) {
+        m_context->warn(node_label(node_index) + " is reached more than once (glTF nodes have one parent); "
+                        "placed each time");
+        m_visited[node_index] = 2;  // said once
+    } else if (m_visited[node_index] == 0) {
+        m_visited[node_index] = 1;
+    }
+
+    const tinygltf::Node& node = m_model.nodes[node_index];
+    Transform world = parent * local_transform(node_index);
+    if (!all_finite(world)) throw GltfError(node_label(node_index) + " has a non-finite world transform");
+    if (node.mesh != -1) place_mesh(node_index, world);
+    if (node.camera != -1) add_camera(node_index, world);
+    if (const tinygltf::Value* light = gltf::json_extension(node.extensions, "KHR_lights_punctual"))
+        add_light(node_index, *light, world);
+
+    m_on_path[node_index] = 1;
+    for (int child : node.children) visit(child, world, depth + 1);
+    m_on_path[node_index] = 0;
+}
+
+Transform GltfImporter::local_transform(int node_index) const {
+    const tinygltf::Node& node = m_model.nodes[node_index];
+    auto check = [&](const std::vector<double>& v, size_t n, const char* field) {
+        if (!v.empty() && v.size() != n)
+            throw GltfError(node_label(node_index) + ": " + field + " has " + std::to_string(v.size()) +
+                            " numbers, expected " + std::to_string(n));
+        if (!all_finite(v)) throw GltfError(node_label(node_index) + ": " + field + " is not finite");
+    };
+    check(node.matrix, 16, "matrix");
+    check(node.translation, 3, "translation");
+    check(node.rotation, 4, "rotation");
+    check(node.scale, 3, "scale");
+
+    Transform t;
+    if (!node.matrix.empty()) {
+        t = from_column_major(node.matrix.data());  // takes precedence over TRS, as in the spec
+    } else {
+        const auto& tr = node.translation;
+        const auto& r = node.rotation;  // quaternion x, y, z, w
+        const auto& s = node.scale;
+        if (!tr.empty()) t = translation(Vec3(float(tr[0]), float(tr[1]), float(tr[2])));
+        if (!r.empty()) t = t * rotation_quaternion(float(r[0]), float(r[1]), float(r[2]), float(r[3]));
+        if (!s.empty()) t = t * scaling(Vec3(float(s[0]), float(s[1]), float(s[2])));
+    }
+    if (!all_finite(t)) throw GltfError(node_label(node_index) + " has a non-finite transform");
+    return t;
+}
+
+void GltfImporter::place_mesh(int node_index, const Transform& world) {
+    int mesh_index = m_model.nodes[node_index].mesh;
+    if (mesh_index < 0 || static_cast<size_t>(mesh_index) >= m_model.meshes.size())
+        throw GltfError(node_label(node_index) + ": mesh " + std::to_string(mesh_index) + " does not exist");
+    // Each glTF mesh is converted once; every node using it adds instances of the same entries.
+    auto& entries = m_mesh_entries[mesh_index];
+    if (!entries) {
+        entries.emplace();
+        const auto& primitives = m_model.meshes[mesh_index].primitives;
+        for (size_t p = 0; p < primitives.size(); ++p) {
+            if (std::optional<Mesh> mesh = build_primitive(mesh_index, static_cast<int>(p))) {
+                entries->push_back(static_cast<uint32_t>(m_scene.meshes.size()));
+                m_scene.meshes.push_back(std::move(*mesh));
+            }
+        }
+    }
+    if (m_model.nodes[node_index].skin >= 0)
+        m_context->warn("skins are not supported; skinned meshes are placed by their node, in bind pose");
+    if (++m_mesh_uses[mesh_index] > 1 && !entries->empty()) m_scene.features.instancing = true;
+    for (uint32_t entry : *entries) m_scene.instances.push_back(Instance{entry, world});
+}
+
+std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_index) {
+    const tinygltf::Mesh& src = m_model.meshes[mesh_index];
+    const tinygltf::Primitive& prim = src.primitives[primitive_index];
+    std::string what = "mesh " + std::to_string(mesh_index) + (src.name.empty() ? "" : " '" + src.name + "'") +
+                       " primitive " + std::to_string(primitive_index);
+    int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
+        ++m_skipped_line_primitives;
+        return std::nullopt;
+    }
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        throw GltfError(what + ": invalid mode " + std::to_string(mode));
+    auto has = [&](const char* name) { return prim.attributes.count(name) != 0; };
+    auto attribute = [&](const char* name) { return prim.attributes.at(name); };
+    if (!prim.targets.empty()) m_context->warn("morph targets are not supported; meshes keep their base shape");
+    if (!has("POSITION")) {
+        m_context->warn(what + " has no POSITION; skipped");
+        return std::nullopt;
+    }
+
+    // Floats always; the integer forms are KHR_mesh_quantization's (and normalized u8/u16 for
+    // texcoords and colours in core glTF).
+    const gltf::AttributeFormat position_format{3, 3, true, true, true};
+    const gltf::AttributeFormat normal_format{3, 3, false, true, false};
+    const gltf::AttributeFormat texcoord_format{2, 2, true, true, true};
+    const gltf::AttributeFormat color_format{3, 4, true, false, false};
+    Mesh mesh;
+    {
+        gltf::FloatAccessor positions =
+            gltf::read_float_accessor(m_model, attribute("POSITION"), position_format, what + " POSITION", *m_context);
+        if (positions.count > UINT32_MAX) throw GltfError(what + ": too many vertices");
+        mesh.positions.resize(positions.count);
+        for (size_t i = 0; i < positions.count; ++i) {
+            const float* p = &positions.values[3 * i];
+            mesh.positions[i] = Vec3(p[0], p[1], p[2]);
+        }
+    }
+    size_t n = mesh.positions.size();
+    auto read = [&](const char* name, const gltf::AttributeFormat& format) {
+        gltf::FloatAccessor a =
+            gltf::read_float_accessor(m_model, attribute(name), format, what + " " + name, *m_context);
+        if (a.count != n)
+            throw GltfError(what + " " + name + ": " + std::to_string(a.count) + " elements, but POSITION has " +
+                            std::to_string(n));
+        return a;
+    };
+
+    mesh.name = src.name.empty() ? "mesh " + std::to_string(mesh_index) : src.name;
+    if (src.primitives.size() > 1) mesh.name += "/" + std::to_string(primitive_index);
+    if (has("NORMAL")) {  // absent: flat shading from the geometric normal
+        gltf::FloatAccessor a = read("NORMAL", normal_format);
+        mesh.normals.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const float* v = &a.values[3 * i];
+            mesh.normals[i] = Vec3(v[0], v[1], v[2]);
+        }
+    }
+    // glTF's v = 0 is the top of the image, as is Texture's row 0: UVs are stored unchanged.
+    for (int set = 0; set < 2; ++set) {
+        std::string name = "TEXCOORD_" + std::to_string(set);
+        if (!has(name.c_str())) continue;
+        gltf::FloatAccessor a = read(name.c_str(), texcoord_format);
+        std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
+        uv.resize(n);
+        for (size_t i = 0; i < n; ++i) uv[i] = Vec2{a.values[2 * i], a.values[2 * i + 1]};
+    }
+    if (has("COLOR_0")) {
+        gltf::FloatAccessor a = read("COLOR_0", color_format);
+        mesh.colors.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const float* c = &a.values[i * a.components];
+            mesh.colors[i] = Rgba{c[0], c[1], c[2], a.components == 4 ? c[3] : 1.0f};
+        }
+    }
+
+    std::vector<uint32_t> indices;
+    if (prim.indices != -1) {
+        indices = gltf::read_index_accessor(m_model, prim.indices, what + " indices", *m_context);
+        for (uint32_t index : indices)
+            if (index >= n)
+                throw GltfError(what + ": index accessor " + std::to_string(prim.indices) + " holds index " +
+                                std::to_string(index) + ", but POSITION has only " + std::to_string(n) + " vertices");
+    } else {
+        m_context->charge(n * sizeof(uint32_t), what);
+        indices.resize(n);
+        std::iota(indices.begin(), indices.end(), 0u);
+    }
+    std::vector<uint32_t> triangles = triangulate(mode, indices, what);
+
+    // The renderer can't intersect a triangle with a NaN or infinite corner: drop those here.
+    std::vector<uint8_t> bad(n, 0);
+    bool any_bad = false;
+    for (size_t i = 0; i < n; ++i) any_bad |= (bad[i] = !is_finite(mesh.positions[i])) != 0;
+    if (any_bad) {
+        size_t kept = 0;
+        for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+            if (bad[triangles[t]] || bad[triangles[t + 1]] || bad[triangles[t + 2]]) {
+                ++m_dropped_triangles;
+                continue;
+            }
+            for (int k = 0; k < 3; ++k) triangles[kept++] = triangles[t + k];
+        }
+        triangles.resize(kept);
+    }
+    if (triangles.empty()) {
+        m_context->warn(what + " has no triangles; skipped");
+        return std::nullopt;
+    }
+    mesh.indices = std::move(triangles);
+
+    if (prim.material != -1) {
+        if (prim.material < 0 || static_cast<size_t>(prim.material) >= m_model.materials.size())
+            throw GltfError(what + ": material " + std::to_string(prim.material) + " does not exist (the file has " +
+                            std::to_string(m_model.materials.size()) + ")");
+        mesh.material = m_materials->material(prim.material);
+    }
+    if (m_scene.material_of(mesh).is_emissive()) m_scene.features.emissive_meshes = true;
+    if (!mesh.colors.empty()) m_scene.features.vertex_colors = true;
+    return mesh;
+}
+
+std::vector<uint32_t> GltfImporter::triangulate(int mode, const std::vector<uint32_t>& idx, const std::string& what) {
+    std::vector<uint32_t> out;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        if (idx.size() % 3 != 0)
+            m_context->warn(what + ": index count " + std::to_string(idx.size()) +
+                            " is not a multiple of 3; the extra indices are ignored");
+        out.assign(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(idx.size() / 3 * 3));
+        return out;
+    }
+    if (idx.size() < 3) return out;
+    size_t count = idx.size() - 2;
+    m_context->charge(count * 3 * sizeof(uint32_t), what);
+    out.reserve(count * 3);
+    for (size_t i = 0; i < count; ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            // Every other triangle of a strip is flipped to keep one winding (glTF spec 3.7.2.1).
+            size_t odd = i % 2;
+            out.insert(out.end(), {idx[i], idx[i + 1 + odd], idx[i + 2 - odd]});
+        } else {
+            out.insert(out.end(), {idx[i + 1], idx[i + 2], idx[0]});
+        }
+    }
+    return out;
+}
+
+void GltfImporter::add_camera(int node_index, const Transform& world) {
+    const tinygltf::Node& node = m_model.nodes[node_index];
+    if (node.camera < 0 || static_cast<size_t>(node.camera) >= m_model.cameras.size())
+        throw GltfError(node_label(node_index) + ": camera " + std::to_string(node.camera) + " does not exist");
+    const tinygltf::Camera& src = m_model.cameras[node.camera];
+    std::string label = "camera " + std::to_string(node.camera);
+    Camera cam;
+    cam.name = !src.name.empty() ? src.name : !node.name.empty() ? node.name : label;
+    cam.camera_to_world = world;
+    auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+    if (src.type == "perspective") {
+        const tinygltf::PerspectiveCamera& p = src.perspective;
+        if (positive(p.yfov) && p.yfov < k_pi) cam.yfov = float(p.yfov);
+        else m_context->warn(label + " has an invalid yfov; using " + std::to_string(cam.yfov));
+        cam.aspect_ratio = positive(p.aspectRatio) ? float(p.aspectRatio) : 0.0f;
+        if (positive(p.znear)) cam.znear = float(p.znear);
+        cam.zfar = positive(p.zfar) ? float(p.zfar) : 0.0f;
+    } else if (src.type == "orthographic") {
+        const tinygltf::OrthographicCamera& o = src.orthographic;
+        cam.orthographic = true;
+        if (std::isfinite(o.xmag) && o.xmag != 0 && std::isfinite(o.ymag) && o.ymag != 0) {
+            cam.xmag = float(o.xmag);
+            cam.ymag = float(o.ymag);
+        } else {
+            m_context->warn(label + " has an invalid xmag or ymag; using 1");
+        }
+        cam.znear = std::isfinite(o.znear) && o.znear >= 0 ? float(o.znear) : 0.0f;
+        cam.zfar = positive(o.zfar) ? float(o.zfar) : 0.0f;
+    } else {
+        m_context->warn(label + " has unknown type '" + src.type + "'; ignored");
+        return;
+    }
+    m_scene.cameras.push_back(cam);
+}
+
+void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const Transform& world) {
+    int index = gltf::json_integer(&ref, "light", INT_MIN);
+    if (index < 0 || static_cast<size_t>(index) >= m_lights.size())
+        throw GltfError(node_label(node_index) + ": KHR_lights_punctual light " + std::to_string(index) +
+                        " does not exist (the file has " + std::to_string(m_lights.size()) + ")");
+    const LightDef& def = m_lights[index];
+    if (!def.type) return;  // unknown type, warned about once
+    PunctualLight light;
+    const std::string& node_name = m_model.nodes[node_index].name;
+    light.name = !def.name.empty() ? def.name : !node_name.empty() ? node_name : "light " + std::to_string(index);
+    light.type = *def.type;
+    // Blender writes W/(4 pi) x 683 lm/W (point, spot) and W/m^2 x 683 (sun); Cycles' units
+    // are the radiometric ones.
+    light.intensity = def.color * float(def.intensity / 683.0);
+    light.position = world.point(Vec3(0, 0, 0));
+    Vec3 axis = world.vector(Vec3(0, 0, -1));
+    float len = length(axis);
+    if (len > 0 && std::isfinite(len)) light.direction = axis / len;
+    else if (light.type != LightType::Point) m_context->warn(light.name + ": degenerate direction; using -Z");
+    if (light.type == LightType::Spot) {
+        double outer = std::clamp(def.outer_cone, 0.0, double(k_pi) / 2);
+        double inner = std::clamp(def.inner_cone, 0.0, outer);
+        light.cos_outer = float(std::cos(outer));
+        light.cos_inner = float(std::cos(inner));
+        // Blender exports inner = outer x (1 - blend).
+        light.blend = outer > 0 ? float(1.0 - inner / outer) : 0.0f;
+        light.falloff = m_spot_falloff;
+    }
+    light.range = def.range > 0 ? float(def.range) : 0.0f;
+    m_scene.lights.push_back(light);
+    m_scene.features.punctual_lights = true;
+}
+
+void GltfImporter::finish() {
+    if (m_skipped_line_primitives > 0)
+        m_context->warn("skipped " + std::to_string(m_skipped_line_primitives) +
+                        " point/line primitives (only triangles are rendered)");
+    if (m_dropped_triangles > 0)
+        m_context->warn("dropped " + std::to_string(m_dropped_triangles) +
+                        " triangles with non-finite vertex positions");
+    if (m_scene.instances.empty()) m_context->warn("the scene has no geometry");
+}
+
+Scene import_bytes(std::span<const uint8_t> bytes, const std::string& base_dir, const std::string& display_name,
+                   bool binary_expected, const ImportOptions& options) {
+    try {
+        bool binary = is_glb(bytes);
+        if (binary_expected && !binary) throw GltfError("not a binary glTF file (no 'glTF' magic)");
+        GltfImporter importer(base_dir, options);
+        return importer.run(bytes, binary, display_name);
+    } catch (const GltfError& e) {
+        throw ImportError(display_name + ": " + one_line(e.what()));
+    } catch (const ImportError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw ImportError(display_name + ": out of memory");
+    } catch (const std::exception& e) {
+        // tinygltf and nlohmann report some faults by throwing.
+        throw ImportError(display_name + ": " + one_line(e.what()));
+    }
+}
+
+}  // namespace
+
+Scene import_gltf_file(const std::string& path, const ImportOptions& options) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw ImportError(path + ": file not found");
+    if (fs::is_directory(path, ec)) throw ImportError(path + ": is a directory");
+    std::vector<unsigned char> bytes;
+    std::string error;
+    if (!read_bytes(path, bytes, error)) throw ImportError(path + ": cannot read file (" + error + ")");
+    return import_bytes(bytes, fs::path(path).parent_path().string(), path, false, options);
+}
+
+Scene import_gltf_memory(const std::vector<uint8_t>& bytes, const std::string& base_dir,
+                         const std::string& display_name, bool binary, const ImportOptions& options) {
+    return import_bytes(bytes, base_dir, display_name, binary, options);
+}
+
+}  // namespace veach

@@ -1,0 +1,275 @@
+#include "importers/gltf/gltf_materials.h"
+
+#include <array>
+#include <climits>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include <tiny_gltf.h>
+
+// libtinygltf.so takes stb_image from libstb.so, which we don't link; a private copy with
+// internal linkage (STB_IMAGE_STATIC) cannot clash with it. Core glTF images are PNG or JPEG.
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
+#define STBI_NO_STDIO
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+namespace veach::gltf {
+namespace {
+
+// Decoded textures are float RGBA (16 bytes a texel): 2^28 texels is already 4 GiB.
+constexpr uint64_t k_max_texels = 1ull << 28;
+
+template <size_t N>
+bool numbers(const tinygltf::Value* array, std::array<double, N>& out) {
+    return json_numbers(array, out.data(), N);
+}
+
+template <size_t N>
+bool numbers(const std::vector<double>& values, std::array<double, N>& out) {
+    if (values.size() != N) return false;
+    for (double v : values)
+        if (!std::isfinite(v)) return false;
+    std::copy(values.begin(), values.end(), out.begin());
+    return true;
+}
+
+Rgb to_rgb(const std::array<double, 3>& c) {
+    return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+}
+
+WrapMode wrap_mode(int gl_wrap) {
+    switch (gl_wrap) {
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WrapMode::ClampToEdge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WrapMode::MirroredRepeat;
+        default: return WrapMode::Repeat;
+    }
+}
+
+std::string stb_reason() {
+    const char* reason = stbi_failure_reason();  // thread-local in stb_image
+    return reason ? reason : "unknown error";
+}
+
+struct StbFree {
+    void operator()(void* p) const { stbi_image_free(p); }
+};
+
+}  // namespace
+
+MaterialConverter::MaterialConverter(const tinygltf::Model& model, ImportContext& context)
+    : m_model(model), m_context(context), m_material_slots(model.materials.size(), -1) {}
+
+int32_t MaterialConverter::material(int index) {
+    if (index < 0 || static_cast<size_t>(index) >= m_model.materials.size())
+        throw GltfError("material " + std::to_string(index) + " does not exist (the file has " +
+                        std::to_string(m_model.materials.size()) + ")");
+    if (m_material_slots[index] < 0) {
+        Material converted = convert(index);
+        m_material_slots[index] = static_cast<int32_t>(m_context.scene.materials.size());
+        m_context.scene.materials.push_back(std::move(converted));
+    }
+    return m_material_slots[index];
+}
+
+Material MaterialConverter::convert(int index) {
+    const tinygltf::Material& src = m_model.materials[index];
+    const tinygltf::PbrMetallicRoughness& pbr = src.pbrMetallicRoughness;
+    std::string what = "material " + std::to_string(index) + (src.name.empty() ? "" : " '" + src.name + "'");
+    auto info = [](const auto& texture_info) {
+        return TextureInfoFields{texture_info.index, texture_info.texCoord,
+                                 json_extension(texture_info.extensions, "KHR_texture_transform")};
+    };
+    auto json_info = [](const tinygltf::Value* v) {
+        TextureInfoFields f;
+        if (!v) return f;
+        f.index = json_integer(v, "index", -1);
+        f.tex_coord = json_integer(v, "texCoord", 0);
+        f.transform = json_member(json_member(v, "extensions"), "KHR_texture_transform");
+        return f;
+    };
+
+    Material m;
+    m.name = src.name.empty() ? "material " + std::to_string(index) : src.name;
+
+    std::array<double, 4> base{1, 1, 1, 1};
+    if (!numbers(pbr.baseColorFactor, base)) m_context.warn(what + ": invalid baseColorFactor, using white");
+    m.base_color = to_rgb({base[0], base[1], base[2]});
+    m.base_alpha = static_cast<float>(base[3]);
+    m.base_color_texture = texture_ref(info(pbr.baseColorTexture), ColorSpace::Srgb, what + " baseColorTexture");
+    m.metallic = std::isfinite(pbr.metallicFactor) ? clamp(static_cast<float>(pbr.metallicFactor), 0, 1) : 1.0f;
+    m.roughness = std::isfinite(pbr.roughnessFactor) ? clamp(static_cast<float>(pbr.roughnessFactor), 0, 1) : 1.0f;
+    m.metallic_roughness_texture =
+        texture_ref(info(pbr.metallicRoughnessTexture), ColorSpace::Linear, what + " metallicRoughnessTexture");
+
+    // Blender writes emission brighter than 1 as emissiveFactor x emissiveStrength.
+    std::array<double, 3> emissive{0, 0, 0};
+    if (!src.emissiveFactor.empty() && !numbers(src.emissiveFactor, emissive))
+        m_context.warn(what + ": invalid emissiveFactor, using black");
+    const tinygltf::Value* strength_ext = json_extension(src.extensions, "KHR_materials_emissive_strength");
+    double strength = json_number(strength_ext, "emissiveStrength", 1.0);
+    m.emission = to_rgb(emissive) * static_cast<float>(std::max(strength, 0.0));
+    m.emissive_texture = texture_ref(info(src.emissiveTexture), ColorSpace::Srgb, what + " emissiveTexture");
+
+    m.normal_texture = texture_ref(info(src.normalTexture), ColorSpace::Linear, what + " normalTexture");
+    m.normal_scale = std::isfinite(src.normalTexture.scale) ? static_cast<float>(src.normalTexture.scale) : 1.0f;
+
+    m.ior = static_cast<float>(json_number(json_extension(src.extensions, "KHR_materials_ior"), "ior", 1.5));
+
+    if (const tinygltf::Value* spec = json_extension(src.extensions, "KHR_materials_specular")) {
+        m.specular = static_cast<float>(json_number(spec, "specularFactor", 1.0));
+        std::array<double, 3> color{1, 1, 1};
+        if (json_member(spec, "specularColorFactor") && !numbers(json_member(spec, "specularColorFactor"), color))
+            m_context.warn(what + ": invalid specularColorFactor, using white");
+        m.specular_color = to_rgb(color);
+        m.specular_texture =
+            texture_ref(json_info(json_member(spec, "specularTexture")), ColorSpace::Linear, what + " specularTexture");
+        m.specular_color_texture = texture_ref(json_info(json_member(spec, "specularColorTexture")), ColorSpace::Srgb,
+                                               what + " specularColorTexture");
+    }
+
+    m.double_sided = src.doubleSided;
+    if (src.alphaMode == "MASK") {
+        m.alpha_mode = AlphaMode::Mask;
+    } else if (src.alphaMode == "BLEND") {
+        m.alpha_mode = AlphaMode::Blend;
+    } else if (src.alphaMode != "OPAQUE" && !src.alphaMode.empty()) {
+        m_context.warn(what + ": unknown alphaMode '" + src.alphaMode + "', treated as OPAQUE");
+    }
+    m.alpha_cutoff = std::isfinite(src.alphaCutoff) ? static_cast<float>(src.alphaCutoff) : 0.5f;
+
+    SceneFeatures& features = m_context.scene.features;
+    for (const TextureRef* ref : {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture,
+                                  &m.normal_texture, &m.specular_texture, &m.specular_color_texture})
+        features.textures |= ref->valid();
+    features.normal_maps |= m.normal_texture.valid();
+    features.alpha |= m.alpha_mode != AlphaMode::Opaque;
+    return m;
+}
+
+TextureRef MaterialConverter::texture_ref(const TextureInfoFields& info, ColorSpace space, const std::string& what) {
+    TextureRef ref;
+    if (info.index == -1) return ref;  // absent
+    ref.texture = texture(info.index, space, what);
+    if (!ref.valid()) return ref;
+    ref.texcoord = info.tex_coord;
+    if (const tinygltf::Value* t = info.transform) {
+        std::array<double, 2> offset{0, 0}, scale{1, 1};
+        numbers(json_member(t, "offset"), offset);
+        numbers(json_member(t, "scale"), scale);
+        ref.transform.offset[0] = static_cast<float>(offset[0]);
+        ref.transform.offset[1] = static_cast<float>(offset[1]);
+        ref.transform.scale[0] = static_cast<float>(scale[0]);
+        ref.transform.scale[1] = static_cast<float>(scale[1]);
+        ref.transform.rotation = static_cast<float>(json_number(t, "rotation", 0.0));
+        // The extension may redirect the lookup to another TEXCOORD set.
+        ref.texcoord = json_integer(t, "texCoord", ref.texcoord);
+    }
+    if (ref.texcoord < 0) throw GltfError(what + ": invalid texCoord");
+    if (ref.texcoord > 1)
+        m_context.warn(what + " uses TEXCOORD_" + std::to_string(ref.texcoord) +
+                       "; only TEXCOORD_0 and TEXCOORD_1 are loaded");
+    return ref;
+}
+
+int32_t MaterialConverter::texture(int index, ColorSpace space, const std::string& what) {
+    if (index < 0 || static_cast<size_t>(index) >= m_model.textures.size())
+        throw GltfError(what + ": texture " + std::to_string(index) + " does not exist (the file has " +
+                        std::to_string(m_model.textures.size()) + ")");
+    auto key = std::make_pair(index, space);
+    if (auto it = m_textures.find(key); it != m_textures.end()) return it->second;
+
+    int32_t slot = -1;
+    if (m_model.textures[index].source < 0) {
+        // Typically the image is only given through an image-format extension we don't support.
+        m_context.warn(what + ": texture " + std::to_string(index) + " has no image we can load; ignored");
+    } else {
+        Texture decoded = decode(index, space, what);
+        slot = static_cast<int32_t>(m_context.scene.textures.size());
+        m_context.scene.textures.push_back(std::move(decoded));
+    }
+    m_textures.emplace(key, slot);
+    return slot;
+}
+
+Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std::string& what) {
+    const tinygltf::Texture& src = m_model.textures[texture_index];
+    if (static_cast<size_t>(src.source) >= m_model.images.size())
+        throw GltfError(what + ": texture " + std::to_string(texture_index) + " uses image " +
+                        std::to_string(src.source) + ", which does not exist");
+    const tinygltf::Image& image = m_model.images[src.source];
+    std::string where = what + ": image " + std::to_string(src.source) +
+                        (image.uri.empty() || image.uri.starts_with("data:") ? "" : " '" + image.uri + "'");
+
+    // Checked before decoding so a bad reference doesn't cost a decode.
+    const tinygltf::Sampler* sampler = nullptr;
+    if (src.sampler >= 0 && static_cast<size_t>(src.sampler) < m_model.samplers.size())
+        sampler = &m_model.samplers[src.sampler];
+    else if (src.sampler != -1)
+        throw GltfError(what + ": texture " + std::to_string(texture_index) + " uses sampler " +
+                        std::to_string(src.sampler) + ", which does not exist");
+
+    // The loader kept the encoded bytes (see keep_encoded_image in gltf_importer.cpp); images
+    // in a bufferView are read straight from the checked view.
+    std::span<const uint8_t> bytes(image.image.data(), image.image.size());
+    if (image.bufferView >= 0) bytes = buffer_view_bytes(m_model, image.bufferView, where);
+    if (bytes.empty()) throw GltfError(where + ": no image data (missing or unreadable file?)");
+    if (bytes.size() > static_cast<size_t>(INT_MAX)) throw GltfError(where + ": image data too large");
+    int size = static_cast<int>(bytes.size());
+
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels))
+        throw GltfError(where + ": cannot decode (" + stb_reason() + ")");
+    uint64_t texels = static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+    if (width <= 0 || height <= 0 || texels > k_max_texels)
+        throw GltfError(where + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                        " is out of range");
+    m_context.charge(texels * 4 * sizeof(float), where, Budget::Textures);
+
+    bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), size) != 0;
+    std::unique_ptr<void, StbFree> pixels;
+    int w = 0, h = 0;
+    if (sixteen)
+        pixels.reset(stbi_load_16_from_memory(bytes.data(), size, &w, &h, &channels, 4));
+    else
+        pixels.reset(stbi_load_from_memory(bytes.data(), size, &w, &h, &channels, 4));
+    if (!pixels) throw GltfError(where + ": cannot decode (" + stb_reason() + ")");
+    if (w != width || h != height) throw GltfError(where + ": inconsistent image header");
+
+    Texture tex;
+    tex.name = !image.name.empty() ? image.name : !image.uri.empty() && !image.uri.starts_with("data:")
+                                                      ? image.uri
+                                                      : "image " + std::to_string(src.source);
+    tex.width = width;
+    tex.height = height;
+    // stb_image returns rows top first, which is Texture's layout; glTF's v = 0 is the top row.
+    size_t n = static_cast<size_t>(texels) * 4;
+    tex.texels.resize(n);
+    // Colour textures keep their sRGB-encoded values: the lookup filters them and decodes the
+    // result, as Cycles does with 8-bit images (texture.h explains the choice).
+    tex.srgb = space == ColorSpace::Srgb;
+    if (sixteen) {
+        const uint16_t* p = static_cast<const uint16_t*>(pixels.get());
+        for (size_t i = 0; i < n; ++i) tex.texels[i] = p[i] / 65535.0f;
+    } else {
+        const uint8_t* p = static_cast<const uint8_t*>(pixels.get());
+        for (size_t i = 0; i < n; ++i) tex.texels[i] = p[i] / 255.0f;
+    }
+
+    if (sampler) {
+        tex.wrap_s = wrap_mode(sampler->wrapS);
+        tex.wrap_t = wrap_mode(sampler->wrapT);
+        tex.nearest = sampler->magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    return tex;
+}
+
+}  // namespace veach::gltf

@@ -1,0 +1,51 @@
+// glTF materials and textures into Scene::materials and Scene::textures. Both are converted on
+// first use, so a file's unused materials cost nothing and only images that a rendered
+// material samples are ever decoded.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "importers/gltf/gltf_accessors.h"
+
+namespace tinygltf {
+class Value;
+}
+
+namespace veach::gltf {
+
+enum class ColorSpace : uint8_t {
+    Srgb,    // colour data (base colour, emissive, specular colour): decoded to linear
+    Linear,  // non-colour data (metallic-roughness, normals, specular factor): c / max
+};
+
+class MaterialConverter {
+public:
+    MaterialConverter(const tinygltf::Model& model, ImportContext& context);
+
+    // The Scene::materials index of glTF material `index`, converting it the first time.
+    int32_t material(int index);
+
+private:
+    // A textureInfo's fields, from tinygltf's structs or from an extension's JSON value.
+    struct TextureInfoFields {
+        int index = -1;
+        int tex_coord = 0;
+        const tinygltf::Value* transform = nullptr;  // KHR_texture_transform, or null
+    };
+
+    Material convert(int index);
+    TextureRef texture_ref(const TextureInfoFields& info, ColorSpace space, const std::string& what);
+    int32_t texture(int index, ColorSpace space, const std::string& what);
+    Texture decode(int texture_index, ColorSpace space, const std::string& what);
+
+    const tinygltf::Model& m_model;
+    ImportContext& m_context;
+    std::vector<int32_t> m_material_slots;                  // glTF material -> scene index, -1 = not yet
+    std::map<std::pair<int, ColorSpace>, int32_t> m_textures;  // (glTF texture, space) -> scene index
+};
+
+}  // namespace veach::gltf

@@ -1,0 +1,45 @@
+// Scene importers, registered by file extension, so the API and the CLI load any registered
+// format through one call.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace veach {
+
+// Bad input: the message is one line naming the file and the fault. Front ends map it to exit
+// code 2.
+class ImportError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+enum class SpotProfile : uint8_t {
+    Auto,     // Blender's (Cycles) profile when asset.generator names Blender, glTF's otherwise
+    Gltf,
+    Blender,
+};
+
+struct ImportOptions {
+    int scene_index = -1;          // -1: the file's default scene (or the first)
+    std::string variant;           // KHR_materials_variants name, empty = default materials
+    SpotProfile spot_profile = SpotProfile::Auto;
+    bool allow_external_files = false;  // URIs outside the file's folder
+};
+
+// Loads a file by its extension (case-insensitive). Throws ImportError on bad input.
+Scene import_scene(const std::string& path, const ImportOptions& options = {});
+
+// Loads a scene held in memory (e.g. a .glb a host application produced); `format` is an
+// extension such as "glb". Relative URIs resolve against `base_dir`.
+Scene import_scene_from_memory(const std::vector<uint8_t>& bytes, const std::string& format,
+                               const std::string& base_dir, const ImportOptions& options = {});
+
+// Extensions of the registered formats, lower case without the dot.
+std::vector<std::string> registered_scene_formats();
+
+}  // namespace veach

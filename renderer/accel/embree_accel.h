@@ -1,0 +1,42 @@
+// Ray queries against the scene's geometry. The only place that includes Embree: meshes placed
+// once are baked to world space and put in the top-level BVH directly; meshes placed several
+// times are built once and referenced by Embree instances.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace veach {
+
+struct RayHit {
+    float t = 0;
+    uint32_t instance = 0;  // index into Scene::instances
+    uint32_t prim = 0;      // triangle index within the instance's mesh
+    float u = 0, v = 0;     // barycentrics of vertices 1 and 2
+};
+
+class Accel {
+public:
+    explicit Accel(const Scene& scene);
+    ~Accel();
+    Accel(const Accel&) = delete;
+    Accel& operator=(const Accel&) = delete;
+
+    // Closest hit along origin + t * dir for t in (0, t_max); dir need not be normalised.
+    bool intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* hit) const;
+    // Any hit in (0, t_max).
+    bool occluded(const Vec3& origin, const Vec3& dir, float t_max) const;
+
+    // World-space vertex positions of a triangle (baked or transformed on the fly).
+    void triangle_world(uint32_t instance, uint32_t prim, Vec3* p0, Vec3* p1, Vec3* p2) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace veach

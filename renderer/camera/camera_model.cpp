@@ -1,0 +1,104 @@
+#include "camera/camera_model.h"
+
+#include <algorithm>
+
+namespace veach {
+
+int CameraModel::default_height(const Camera* camera, int width) {
+    float aspect = 16.0f / 9.0f;
+    if (camera) {
+        if (camera->orthographic && camera->xmag > 0 && camera->ymag > 0)
+            aspect = camera->xmag / camera->ymag;
+        else if (camera->aspect_ratio > 0)
+            aspect = camera->aspect_ratio;
+    }
+    return std::max(1, static_cast<int>(std::lround(width / aspect)));
+}
+
+CameraModel::CameraModel(const Camera* camera, const Bounds3& bounds, int width, int height)
+    : m_width(width), m_height(height) {
+    float aspect = static_cast<float>(width) / static_cast<float>(height);
+    if (camera) {
+        const Transform& m = camera->camera_to_world;
+        m_origin = m.point(Vec3(0, 0, 0));
+        m_right = normalize(m.vector(Vec3(1, 0, 0)));
+        m_up = normalize(m.vector(Vec3(0, 1, 0)));
+        m_forward = normalize(m.vector(Vec3(0, 0, -1)));
+        // Re-orthogonalise: node matrices may carry shear or scale.
+        m_right = normalize(cross(m_forward, m_up));
+        m_up = cross(m_right, m_forward);
+        m_ortho = camera->orthographic;
+        if (m_ortho) {
+            // glTF's xmag/ymag are half extents; the image's aspect ratio decides the width.
+            m_half_h = std::max(1e-12f, std::fabs(camera->ymag));
+            m_half_w = m_half_h * aspect;
+        } else {
+            float yfov = clamp(camera->yfov, 1e-4f, k_pi - 1e-3f);
+            m_half_h = std::tan(0.5f * yfov);
+            m_half_w = m_half_h * aspect;
+        }
+    } else {
+        // Frame the bounding sphere with a 40-degree vertical field of view from the front.
+        Vec3 c = bounds.empty() ? Vec3() : bounds.center();
+        float r = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
+        float yfov = 0.6981317f;
+        float fit = std::min(yfov, 2.0f * std::atan(std::tan(0.5f * yfov) * aspect));
+        float dist = r / std::sin(0.5f * fit);
+        m_origin = c + Vec3(0, 0, dist);
+        m_forward = Vec3(0, 0, -1);
+        m_right = Vec3(1, 0, 0);
+        m_up = Vec3(0, 1, 0);
+        m_half_h = std::tan(0.5f * yfov);
+        m_half_w = m_half_h * aspect;
+    }
+    m_plane_area = 4.0f * m_half_w * m_half_h;
+}
+
+void CameraModel::generate_ray(float fx, float fy, Vec3* origin, Vec3* dir) const {
+    float sx = (2.0f * fx / m_width - 1.0f) * m_half_w;
+    float sy = (1.0f - 2.0f * fy / m_height) * m_half_h;
+    if (m_ortho) {
+        *origin = m_origin + m_right * sx + m_up * sy;
+        *dir = m_forward;
+    } else {
+        *origin = m_origin;
+        *dir = normalize(m_forward + m_right * sx + m_up * sy);
+    }
+}
+
+float CameraModel::importance(const Vec3& dir) const {
+    if (m_ortho) return 0.0f;  // light paths do not connect to an orthographic camera (a delta)
+    float c = dot(dir, m_forward);
+    if (c <= 0.0f) return 0.0f;
+    float sx = dot(dir, m_right) / c, sy = dot(dir, m_up) / c;
+    if (std::fabs(sx) > m_half_w || std::fabs(sy) > m_half_h) return 0.0f;
+    float c2 = c * c;
+    return 1.0f / (m_plane_area * c2 * c2);
+}
+
+float CameraModel::pdf_dir_w(const Vec3& dir) const {
+    if (m_ortho) return 0.0f;
+    float c = dot(dir, m_forward);
+    if (c <= 0.0f) return 0.0f;
+    return 1.0f / (m_plane_area * c * c * c);
+}
+
+bool CameraModel::project(const Vec3& p, float* fx, float* fy) const {
+    Vec3 d = p - m_origin;
+    float z = dot(d, m_forward);
+    float sx, sy;
+    if (m_ortho) {
+        sx = dot(d, m_right);
+        sy = dot(d, m_up);
+        if (z <= 0.0f) return false;
+    } else {
+        if (z <= 0.0f) return false;
+        sx = dot(d, m_right) / z;
+        sy = dot(d, m_up) / z;
+    }
+    *fx = (sx / m_half_w + 1.0f) * 0.5f * m_width;
+    *fy = (1.0f - sy / m_half_h) * 0.5f * m_height;
+    return *fx >= 0.0f && *fy >= 0.0f && *fx < m_width && *fy < m_height;
+}
+
+}  // namespace veach

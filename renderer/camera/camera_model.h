@@ -1,0 +1,49 @@
+// The camera as the integrators see it: rays for film positions (and, for light tracing, the
+// reverse: where a world point lands on the film and with what importance).
+#pragma once
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace veach {
+
+class CameraModel {
+public:
+    // `camera` may be null: a default camera then frames `scene_bounds` from +Z.
+    CameraModel(const Camera* camera, const Bounds3& scene_bounds, int width, int height);
+
+    // Ray through film position (fx, fy) in pixels, (0, 0) the top-left corner of the image.
+    void generate_ray(float fx, float fy, Vec3* origin, Vec3* dir) const;
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    bool orthographic() const { return m_ortho; }
+    const Vec3& position() const { return m_origin; }
+    const Vec3& forward() const { return m_forward; }
+
+    // Film position of a world point seen by a pinhole camera; false when behind the camera or
+    // off the film.
+    bool project(const Vec3& p, float* fx, float* fy) const;
+    // Area of the image plane at distance 1 (pinhole): the pixel-to-solid-angle scale for We.
+    float image_plane_area() const { return m_plane_area; }
+
+    // Importance of a pinhole camera toward unit direction `dir` (Veach's We, normalised so
+    // that the integral of We cos over the image's solid angle is 1): 1 / (A cos^4), with A the
+    // image plane's area at distance 1. Zero outside the image.
+    float importance(const Vec3& dir) const;
+    // Solid-angle density of the camera ray direction `dir` when film positions are uniform:
+    // 1 / (A cos^3).
+    float pdf_dir_w(const Vec3& dir) const;
+
+    // Default image height for a width: from the camera's aspect ratio (or 16:9).
+    static int default_height(const Camera* camera, int width);
+
+private:
+    bool m_ortho = false;
+    int m_width, m_height;
+    Vec3 m_origin, m_right, m_up, m_forward;  // world basis, unit
+    float m_half_w = 1, m_half_h = 1;         // tan(fov/2) extents (perspective) or xmag/ymag
+    float m_plane_area = 4;
+};
+
+}  // namespace veach

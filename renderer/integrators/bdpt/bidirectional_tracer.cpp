@@ -1,0 +1,415 @@
+#include "integrators/bdpt/bidirectional_tracer.h"
+
+#include <vector>
+
+#include "core/rng.h"
+#include "integrators/bdpt/path_vertex.h"
+#include "integrators/surface_hit.h"
+
+namespace veach {
+
+namespace {
+
+// Subpaths start Russian roulette after this many vertices (camera and light vertex included).
+constexpr int k_roulette_start_vertex = 4;
+
+float remap0(float v) { return v != 0.0f ? v : 1.0f; }
+
+// Converts a solid-angle density at `from` toward `to` into an area density at `to`.
+float to_area_density(float pdf_w, const PathVertex& from, const PathVertex& to) {
+    if (to.infinite) return pdf_w;  // directions are the "area" measure at infinity
+    Vec3 d = to.p - from.p;
+    float dist2 = length_squared(d);
+    if (!(dist2 > 0.0f)) return 0.0f;
+    float pdf = pdf_w / dist2;
+    if (to.has_normal) pdf *= std::fabs(dot(to.ng, d)) / std::sqrt(dist2);
+    return pdf;
+}
+
+// Everything a thread needs for one tile: subpath storage allocated once, not per path.
+struct Workspace {
+    std::vector<PathVertex> camera, light;
+};
+
+class Tracer {
+public:
+    Tracer(const RenderScene& rs, const RenderSettings& settings, const BdptOptions& options, ThreadStats& stats)
+        : m_rs(rs), m_lights(rs.lights()), m_camera(rs.camera()), m_settings(settings), m_options(options),
+          m_stats(stats) {}
+
+    // Traces one pixel sample; returns the camera-side estimate and splats the light-tracing one.
+    Rgb sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film);
+
+private:
+    int trace_camera_subpath(Workspace& ws, float fx, float fy, Rng& rng);
+    int trace_light_subpath(Workspace& ws, Rng& rng);
+    int random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
+                    TransportMode mode, int max_vertices, Rng& rng);
+    bool visible(const PathVertex& a, const PathVertex& b);
+    Rgb emitted_toward(const PathVertex& v, const Vec3& w) const;
+    float light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const;
+    float light_emission_pdf_area(const PathVertex& light_v, const PathVertex& to) const;
+    float mis_weight(const std::vector<PathVertex>& light, int s, const std::vector<PathVertex>& camera, int t,
+                     const PathVertex* sampled_light) const;
+    bool wanted(int s, int t) const {
+        if (s + t - 2 > m_settings.max_depth) return false;
+        if (m_options.only_s >= 0) return s == m_options.only_s && t == m_options.only_t;
+        if (m_options.light_tracing_only) return t == 1;
+        return true;
+    }
+    bool weighted() const { return m_options.only_s < 0 && !m_options.light_tracing_only; }
+
+    const RenderScene& m_rs;
+    const LightSet& m_lights;
+    const CameraModel& m_camera;
+    const RenderSettings& m_settings;
+    const BdptOptions& m_options;
+    ThreadStats& m_stats;
+};
+
+// Fills a surface vertex from a hit and builds its BSDF facing the arriving direction.
+void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& dir, PathVertex* v) {
+    SurfaceHit hit = make_surface_hit(rs, rh);
+    v->kind = PathVertex::Kind::Surface;
+    v->p = hit.p;
+    v->p_error = hit.p_error;
+    v->ng = hit.ng;
+    v->has_normal = true;
+    v->delta = false;
+    v->delta_light = false;
+    v->infinite = false;
+    v->material = hit.material;
+    v->attr = hit.attr;
+    v->instance = hit.instance;
+    v->prim = hit.prim;
+    v->light = rs.lights().emitter_of(hit.instance, hit.prim);
+    ShadingInputs in = evaluate_material(*hit.material, rs.scene(), hit.attr);
+    v->bsdf = SurfaceBsdf(hit.ng, hit.ns, -dir, in);
+}
+
+int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
+                        TransportMode mode, int max_vertices, Rng& rng) {
+    while (count < max_vertices) {
+        RayHit rh;
+        ++m_stats.rays;
+        if (!m_rs.accel().intersect(origin, dir, k_infinity, &rh)) break;
+        PathVertex& prev = path[count - 1];
+        PathVertex& v = path[count];
+        fill_surface_vertex(m_rs, rh, dir, &v);
+        v.beta = beta;
+        if (prev.kind == PathVertex::Kind::Light && prev.infinite) {
+            // Parallel rays from a disc: the density of the point is the disc's, projected.
+            v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
+        } else if (prev.kind == PathVertex::Kind::Camera && m_camera.orthographic()) {
+            v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
+        } else {
+            v.pdf_fwd = to_area_density(pdf_w, prev, v);
+        }
+        v.pdf_rev = 0.0f;
+        ++count;
+        if (count >= max_vertices) break;
+
+        Vec3 wo = -dir;
+        BsdfSample bs;
+        if (v.bsdf.is_black() || !v.bsdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), mode, &bs))
+            break;
+        Vec3 wi = bs.wi;
+        float pdf_fwd_w = bs.pdf_w;
+        float pdf_rev_w = v.bsdf.pdf_w(wi, wo);
+        if (bs.delta) {
+            // A delta bounce: no other strategy can produce this vertex pair; the zero densities
+            // are skipped by the MIS recurrence (remap0) and the delta flag excludes them.
+            v.delta = true;
+            pdf_fwd_w = pdf_rev_w = 0.0f;
+        }
+        beta *= bs.weight;
+        if (count >= k_roulette_start_vertex) {
+            float q = std::min(1.0f, beta.max());
+            if (rng.next_float() >= q) break;
+            beta = beta / q;
+        }
+        if (beta.is_black()) break;
+        prev.pdf_rev = to_area_density(pdf_rev_w, v, prev);
+        pdf_w = pdf_fwd_w;
+        origin = offset_ray_origin(v.p, v.p_error, v.ng, wi);
+        dir = wi;
+    }
+    return count;
+}
+
+int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Rng& rng) {
+    PathVertex& c = ws.camera[0];
+    c = PathVertex();
+    c.kind = PathVertex::Kind::Camera;
+    Vec3 origin, dir;
+    m_camera.generate_ray(fx, fy, &origin, &dir);
+    c.p = origin;
+    c.beta = Rgb(1.0f);
+    // An orthographic camera is a delta in direction: no strategy can reach it from a light.
+    c.delta = m_camera.orthographic();
+    float pdf_w = m_camera.orthographic() ? 1.0f / m_camera.image_plane_area() : m_camera.pdf_dir_w(dir);
+    int max_vertices = m_settings.max_depth + 2;
+    return random_walk(ws.camera, 1, origin, dir, Rgb(1.0f), pdf_w, TransportMode::Radiance, max_vertices, rng);
+}
+
+int Tracer::trace_light_subpath(Workspace& ws, Rng& rng) {
+    LightEmission e;
+    float u_select = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float(), u3 = rng.next_float(),
+          u4 = rng.next_float();
+    if (m_lights.empty() || !m_lights.sample_emission(u_select, u1, u2, u3, u4, &e)) return 0;
+    float pmf = m_lights.selection_pmf(e.light);
+    PathVertex& l = ws.light[0];
+    l = PathVertex();
+    l.kind = PathVertex::Kind::Light;
+    l.light = e.light;
+    l.p = e.point;
+    l.ng = e.normal;
+    l.has_normal = !e.delta_position && !e.delta_direction;
+    l.delta_light = e.delta_position || e.delta_direction;
+    l.infinite = e.delta_direction;
+    l.light_dir = e.dir;
+    l.beta = e.value / (pmf * e.pdf_pos_a);
+    l.pdf_fwd = pmf * e.pdf_pos_a;
+    Rgb beta = l.beta;
+    float pdf_w = e.pdf_dir_w;
+    if (e.delta_direction) {
+        pdf_w = e.pdf_pos_a;  // handed to the first hit as the disc's area density
+    } else {
+        float cos_light = l.has_normal ? std::fabs(dot(e.normal, e.dir)) : 1.0f;
+        beta = beta * (cos_light / e.pdf_dir_w);
+    }
+    int max_vertices = m_settings.max_depth + 1;
+    Vec3 origin = e.point;
+    if (l.has_normal) {
+        // Leave the emitting triangle without hitting it again.
+        origin = offset_ray_origin(e.point, abs(e.point) * (32.0f * 0x1p-24f), e.normal, e.dir);
+    }
+    return random_walk(ws.light, 1, origin, e.dir, beta, pdf_w, TransportMode::Importance, max_vertices, rng);
+}
+
+bool Tracer::visible(const PathVertex& a, const PathVertex& b) {
+    ++m_stats.rays;
+    Vec3 d = b.p - a.p;
+    Vec3 o = a.has_normal && a.kind == PathVertex::Kind::Surface ? offset_ray_origin(a.p, a.p_error, a.ng, d) : a.p;
+    Vec3 target = b.kind == PathVertex::Kind::Surface ? offset_ray_origin(b.p, b.p_error, b.ng, -d) : b.p;
+    Vec3 dt = target - o;
+    float dist = length(dt);
+    if (!(dist > 0.0f)) return false;
+    return !m_rs.accel().occluded(o, dt / dist, dist * (1.0f - k_shadow_epsilon));
+}
+
+// Radiance a surface vertex on an emitter sends toward unit direction w.
+Rgb Tracer::emitted_toward(const PathVertex& v, const Vec3& w) const {
+    if (v.light < 0 || v.kind != PathVertex::Kind::Surface) return Rgb(0.0f);
+    const auto& tl = std::get<TriangleLight>(m_lights.light(static_cast<size_t>(v.light)));
+    return m_lights.triangle_radiance(tl, w, evaluate_emission(*v.material, m_rs.scene(), v.attr));
+}
+
+// Area density with which the light sampler produces point v (on a light) as a path origin.
+float Tracer::light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const {
+    float pdf_pos, pdf_dir;
+    m_lights.pdf_emission(static_cast<size_t>(v.light), dir_out, &pdf_pos, &pdf_dir);
+    return m_lights.selection_pmf(static_cast<size_t>(v.light)) * pdf_pos;
+}
+
+// Area density at `to` of a particle emitted from light vertex (or emitter surface) `light_v`.
+float Tracer::light_emission_pdf_area(const PathVertex& light_v, const PathVertex& to) const {
+    if (light_v.infinite) {
+        float pdf_pos, pdf_dir;
+        m_lights.pdf_emission(static_cast<size_t>(light_v.light), light_v.light_dir, &pdf_pos, &pdf_dir);
+        return to.has_normal ? pdf_pos * std::fabs(dot(to.ng, light_v.light_dir)) : pdf_pos;
+    }
+    Vec3 d = to.p - light_v.p;
+    float len = length(d);
+    if (!(len > 0.0f)) return 0.0f;
+    float pdf_pos, pdf_dir;
+    m_lights.pdf_emission(static_cast<size_t>(light_v.light), d / len, &pdf_pos, &pdf_dir);
+    return to_area_density(pdf_dir, light_v, to);
+}
+
+float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std::vector<PathVertex>& camera, int t,
+                         const PathVertex* sampled_light) const {
+    // The vertices at the connection, whose pdf_rev depend on the strategy.
+    const PathVertex* y = s > 0 ? (s == 1 && sampled_light ? sampled_light : &light[s - 1]) : nullptr;
+    const PathVertex* y_prev = s > 1 ? &light[s - 2] : nullptr;
+    const PathVertex* z = &camera[t - 1];
+    const PathVertex* z_prev = t > 1 ? &camera[t - 2] : nullptr;
+
+    float z_rev = 0, z_prev_rev = 0, y_rev = 0, y_prev_rev = 0;
+    if (s == 0) {
+        z_rev = light_origin_pdf_a(*z, z_prev ? normalize(z_prev->p - z->p) : Vec3(0, 0, 1));
+        if (z_prev) {
+            PathVertex as_light = *z;
+            as_light.kind = PathVertex::Kind::Light;
+            z_prev_rev = light_emission_pdf_area(as_light, *z_prev);
+        }
+    } else {
+        if (t > 1) {
+            if (s == 1) {
+                z_rev = light_emission_pdf_area(*y, *z);
+            } else {
+                Vec3 wo = normalize(y_prev->p - y->p), wi = normalize(z->p - y->p);
+                z_rev = to_area_density(y->bsdf.pdf_w(wo, wi), *y, *z);
+            }
+            Vec3 wo = normalize(y->p - z->p), wi = normalize(z_prev->p - z->p);
+            z_prev_rev = to_area_density(z->bsdf.pdf_w(wo, wi), *z, *z_prev);
+        }
+        if (t == 1) {
+            y_rev = to_area_density(m_camera.pdf_dir_w(normalize(y->p - z->p)), *z, *y);
+        } else {
+            Vec3 wo = normalize(z_prev->p - z->p), wi = normalize(y->p - z->p);
+            y_rev = to_area_density(z->bsdf.pdf_w(wo, wi), *z, *y);
+        }
+        if (y_prev) {
+            Vec3 wo = normalize(z->p - y->p), wi = normalize(y_prev->p - y->p);
+            y_prev_rev = to_area_density(y->bsdf.pdf_w(wo, wi), *y, *y_prev);
+        }
+    }
+
+    double sum = 0.0;
+    // Camera side: strategies that would have made more of the path from the light.
+    double r = 1.0;
+    for (int i = t - 1; i > 0; --i) {
+        float rev = i == t - 1 ? z_rev : (i == t - 2 ? z_prev_rev : camera[i].pdf_rev);
+        r *= remap0(rev) / remap0(camera[i].pdf_fwd);
+        if (!camera[i].delta && !camera[i - 1].delta) sum += r * r;
+    }
+    // Light side: strategies that would have made more of the path from the camera.
+    r = 1.0;
+    for (int i = s - 1; i >= 0; --i) {
+        const PathVertex& v = (i == 0 && s == 1 && sampled_light) ? *sampled_light : light[i];
+        float rev = i == s - 1 ? y_rev : (i == s - 2 ? y_prev_rev : v.pdf_rev);
+        r *= remap0(rev) / remap0(v.pdf_fwd);
+        bool delta_before = i > 0 ? light[i - 1].delta : v.delta_light;
+        if (!v.delta && !delta_before) sum += r * r;
+    }
+    return static_cast<float>(1.0 / (1.0 + sum));
+}
+
+Rgb Tracer::sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film) {
+    int n_camera = trace_camera_subpath(ws, fx, fy, rng);
+    int n_light = trace_light_subpath(ws, rng);
+    Rgb radiance(0.0f);
+
+    for (int t = 1; t <= n_camera; ++t) {
+        for (int s = 0; s <= n_light || (s == 1 && t > 1); ++s) {
+            if (!wanted(s, t)) continue;
+            const PathVertex& z = ws.camera[t - 1];
+            if (s == 0) {
+                // The camera subpath found an emitter by itself.
+                if (t < 2 || z.light < 0) continue;
+                Rgb le = emitted_toward(z, normalize(ws.camera[t - 2].p - z.p));
+                if (le.is_black()) continue;
+                Rgb c = z.beta * le;
+                float w = weighted() ? mis_weight(ws.light, 0, ws.camera, t, nullptr) : 1.0f;
+                radiance += c * w;
+            } else if (t == 1) {
+                // Connect light subpath vertex y to the camera; the result lands on another pixel.
+                const PathVertex& y = ws.light[s - 1];
+                if (m_camera.orthographic()) continue;
+                if (s > 1 && y.bsdf.is_pure_delta()) continue;
+                if (s == 1 && y.delta_light) continue;  // point and sun lights are invisible to the camera
+                Vec3 d = y.p - z.p;
+                float dist2 = length_squared(d);
+                if (!(dist2 > 0.0f)) continue;
+                Vec3 w = d / std::sqrt(dist2);
+                float we = m_camera.importance(w);
+                float px, py;
+                if (!(we > 0.0f) || !m_camera.project(y.p, &px, &py)) continue;
+                Rgb f;
+                if (s == 1) {
+                    // y.beta = Le / (pmf pdf_pos): the light point itself, seen by the camera.
+                    // Whether it emits toward the camera does not depend on the side the
+                    // emission sample picked for its direction.
+                    const auto& tl = std::get<TriangleLight>(m_lights.light(static_cast<size_t>(y.light)));
+                    if (m_lights.triangle_radiance(tl, -w, Rgb(1.0f)).is_black()) continue;
+                    f = Rgb(std::fabs(dot(y.ng, w)));
+                } else {
+                    f = y.bsdf.eval(normalize(ws.light[s - 2].p - y.p), -w, TransportMode::Importance);
+                }
+                if (f.is_black()) continue;
+                Rgb c = y.beta * f * (we * dot(w, m_camera.forward()) / dist2);
+                if (c.is_black() || !visible(y, z)) continue;
+                float weight = weighted() ? mis_weight(ws.light, s, ws.camera, 1, nullptr) : 1.0f;
+                c = c * weight;
+                if (c.is_finite()) film.add_splat(px, py, c);
+                else ++m_stats.nonfinite;
+            } else if (s == 1) {
+                // Next-event estimation: a fresh point on a light.
+                if (z.bsdf.is_black() || z.bsdf.is_pure_delta()) continue;
+                LightSample ls;
+                if (!m_lights.sample_direct(z.p, rng.next_float(), rng.next_float(), rng.next_float(), &ls)) continue;
+                Vec3 wo = normalize(ws.camera[t - 2].p - z.p);
+                Rgb f = z.bsdf.eval(wo, ls.wi, TransportMode::Radiance);
+                if (f.is_black()) continue;
+                Vec3 o = offset_ray_origin(z.p, z.p_error, z.ng, ls.wi);
+                float t_max = ls.is_infinite ? k_infinity : length(ls.point - o) * (1.0f - k_shadow_epsilon);
+                ++m_stats.rays;
+                if (m_rs.accel().occluded(o, ls.wi, t_max)) continue;
+                Rgb c = z.beta * f * ls.radiance / ls.pdf_w;
+                float w = 1.0f;
+                if (weighted()) {
+                    PathVertex lv;
+                    lv.kind = PathVertex::Kind::Light;
+                    lv.light = ls.light;
+                    lv.p = ls.point;
+                    lv.infinite = ls.is_infinite;
+                    lv.delta_light = ls.is_delta;
+                    lv.light_dir = -ls.wi;
+                    const LightVariant& var = m_lights.light(ls.light);
+                    if (const auto* tl = std::get_if<TriangleLight>(&var)) {
+                        lv.has_normal = true;
+                        lv.ng = dot(tl->n, ls.wi) < 0.0f ? tl->n : -tl->n;  // the side facing z
+                    }
+                    lv.pdf_fwd = light_origin_pdf_a(lv, -ls.wi);
+                    w = mis_weight(ws.light, 1, ws.camera, t, &lv);
+                }
+                radiance += c * w;
+            } else {
+                // Join the two subpaths' end vertices.
+                const PathVertex& y = ws.light[s - 1];
+                if (y.bsdf.is_pure_delta() || z.bsdf.is_pure_delta() || z.bsdf.is_black()) continue;
+                Vec3 d = z.p - y.p;
+                float dist2 = length_squared(d);
+                if (!(dist2 > 0.0f)) continue;
+                Vec3 w = d / std::sqrt(dist2);
+                Rgb fy = y.bsdf.eval(normalize(ws.light[s - 2].p - y.p), w, TransportMode::Importance);
+                if (fy.is_black()) continue;
+                Rgb fz = z.bsdf.eval(normalize(ws.camera[t - 2].p - z.p), -w, TransportMode::Radiance);
+                if (fz.is_black()) continue;
+                Rgb c = y.beta * fy * fz * z.beta / dist2;
+                if (c.is_black() || !visible(z, y)) continue;
+                float weight = weighted() ? mis_weight(ws.light, s, ws.camera, t, nullptr) : 1.0f;
+                radiance += c * weight;
+            }
+        }
+    }
+    return radiance;
+}
+
+}  // namespace
+
+void BidirectionalTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin,
+                                      uint32_t sample_end, Film& film, ThreadStats& stats) const {
+    Workspace ws;
+    ws.camera.resize(static_cast<size_t>(m_settings.max_depth) + 2);
+    ws.light.resize(static_cast<size_t>(m_settings.max_depth) + 1);
+    Tracer tracer(rs, m_settings, m_options, stats);
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
+            for (uint32_t s = sample_begin; s < sample_end; ++s) {
+                Rng rng = Rng::for_sample(m_settings.seed, pixel, s);
+                float fx = x + rng.next_float(), fy = y + rng.next_float();
+                Rgb l = tracer.sample(ws, fx, fy, rng, film);
+                if (!l.is_finite()) {
+                    ++stats.nonfinite;
+                    continue;
+                }
+                film.add_sample(x, y, l);
+            }
+        }
+    }
+}
+
+}  // namespace veach

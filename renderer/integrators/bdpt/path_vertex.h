@@ -1,0 +1,36 @@
+// A vertex of a camera or light subpath, with the two area densities bidirectional MIS needs:
+// pdf_fwd, the density with which its own subpath generated it, and pdf_rev, the density with
+// which the other subpath would have generated it.
+#pragma once
+
+#include <cstdint>
+
+#include "core/rgb.h"
+#include "materials/surface_bsdf.h"
+
+namespace veach {
+
+struct PathVertex {
+    enum class Kind : uint8_t { Camera, Light, Surface };
+
+    Kind kind = Kind::Surface;
+    bool delta = false;           // scattering here is a Dirac delta (or: a delta camera)
+    bool delta_light = false;     // a light vertex with a delta position or direction
+    bool infinite = false;        // a directional light's vertex: "at infinity"
+    Vec3 p;
+    Vec3 p_error;
+    Vec3 ng;                      // geometric normal (surfaces, area lights)
+    bool has_normal = false;      // false for the camera, point, spot and directional lights
+    Rgb beta;                     // path throughput up to and including this vertex's sampling
+    float pdf_fwd = 0, pdf_rev = 0;
+    // Surfaces:
+    SurfaceBsdf bsdf;
+    const Material* material = nullptr;
+    SurfaceAttributes attr;
+    uint32_t instance = 0, prim = 0;
+    // Lights (light vertices, and surface vertices on an emitter):
+    int64_t light = -1;
+    Vec3 light_dir;               // directional light vertex: the direction light travels
+};
+
+}  // namespace veach

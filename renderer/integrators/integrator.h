@@ -1,0 +1,68 @@
+// Integrators and the driver that runs them: TBB over 16x16 tiles inside a task_arena sized to
+// the caller's thread count, in progressive passes of samples so that a time limit or a cancel
+// stops at a clean point. Randomness is keyed by (seed, pixel, sample index), so the image does
+// not depend on the thread count or on scheduling.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "film/film.h"
+#include "integrators/render_scene.h"
+
+namespace veach {
+
+struct RenderSettings {
+    int spp = 64;
+    double time_limit = 0;   // seconds, 0 = none: stop at whichever of spp and time comes first
+    uint64_t seed = 0;
+    int max_depth = 64;      // maximum number of scattering events on a path
+    int threads = 0;         // 0 = all cores
+    std::string integrator = "bdpt";  // bdpt, pt or lt
+    int bdpt_s = -1, bdpt_t = -1;      // bdpt: render only strategy (s, t), unweighted
+};
+
+struct RenderControl {
+    // Called on the calling thread after each pass: fraction done in [0, 1], seconds left.
+    std::function<void(double fraction, double eta_seconds)> progress;
+    const std::atomic<bool>* cancel = nullptr;  // set from anywhere to stop soon
+};
+
+struct RenderStats {
+    uint64_t camera_samples = 0;
+    uint64_t rays = 0;
+    uint64_t nonfinite_samples = 0;
+    int spp_done = 0;       // samples per pixel completed in every pixel
+    double seconds = 0;
+    bool cancelled = false;
+};
+
+// Per-thread counters, merged once per tile.
+struct ThreadStats {
+    uint64_t rays = 0;
+    uint64_t nonfinite = 0;
+};
+
+struct Tile {
+    int x0, y0, x1, y1;
+};
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    // Renders samples [sample_begin, sample_end) of every pixel in `tile` into the film.
+    virtual void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin,
+                             uint32_t sample_end, Film& film, ThreadStats& stats) const = 0;
+};
+
+// Throws std::invalid_argument for an unknown name.
+std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings);
+std::vector<std::string> integrator_names();
+
+RenderStats render_image(const RenderScene& rs, const Integrator& integrator, const RenderSettings& settings,
+                         Film& film, const RenderControl& control = {});
+
+}  // namespace veach

@@ -1,0 +1,34 @@
+// What an integrator knows about a ray's hit: position with its floating-point error bound,
+// normals, texture coordinates and material. The error bound lets rays leave a surface without
+// any epsilon tied to the scene's size.
+#pragma once
+
+#include "accel/embree_accel.h"
+#include "integrators/render_scene.h"
+#include "materials/gltf_material.h"
+#include "scene/scene.h"
+
+namespace veach {
+
+struct SurfaceHit {
+    Vec3 p;          // world position, from barycentrics of the world-space vertices
+    Vec3 p_error;    // per-axis bound on |p - true p|
+    Vec3 ng;         // unit geometric normal (from the winding; not flipped toward the ray)
+    Vec3 ns;         // unit shading normal, on the same side as ng
+    SurfaceAttributes attr;
+    const Material* material = nullptr;
+    uint32_t instance = 0, prim = 0;
+    float b1 = 0, b2 = 0;  // barycentrics
+};
+
+// Fills a SurfaceHit from an Embree hit.
+SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit);
+
+// A ray origin on the side of the surface that `w` points to, offset just past the position's
+// error bound (pbrt-v3 section 3.9): relative to the coordinates' magnitude, so scale-invariant.
+Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& w);
+
+// Shadow rays stop this fraction short of their target: relative, so scale-invariant.
+inline constexpr float k_shadow_epsilon = 1e-4f;
+
+}  // namespace veach

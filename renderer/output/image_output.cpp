@@ -1,0 +1,252 @@
+#include "output/image_output.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <system_error>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+
+#include "output/display_transform.h"
+
+namespace veach {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+enum class Format { exr, hdr, png, jpeg, tiff };
+
+struct FormatInfo {
+    Format format;
+    const char* oiio_name;  // the OIIO plugin, named explicitly so the temp name cannot mislead it
+    const char* label;
+};
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+}
+
+bool format_of(const std::string& path, FormatInfo& info) {
+    const std::string ext = lower(fs::path(path).extension().string());
+    if (ext == ".exr") info = {Format::exr, "openexr", "EXR"};
+    else if (ext == ".hdr") info = {Format::hdr, "hdr", "HDR"};
+    else if (ext == ".png") info = {Format::png, "png", "PNG"};
+    else if (ext == ".jpg" || ext == ".jpeg") info = {Format::jpeg, "jpeg", "JPEG"};
+    else if (ext == ".tif" || ext == ".tiff") info = {Format::tiff, "tiff", "TIFF"};
+    else return false;
+    return true;
+}
+
+std::string one_line(std::string s) {
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    std::replace(s.begin(), s.end(), '\r', ' ');
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& reason) {
+    throw OutputError(path + ": " + one_line(reason));
+}
+
+// Unique within the process (pid) and across threads writing the same target (counter); the
+// leading dot keeps half-written files out of casual directory listings.
+fs::path temp_path_for(const fs::path& target) {
+    static std::atomic<unsigned> counter{0};
+    const unsigned n = counter.fetch_add(1, std::memory_order_relaxed);
+    // Appended piecewise: `"." + std::string` trips a false -Wrestrict in GCC 12.
+    std::string name = ".";
+    name += target.stem().string();
+    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(n);
+    name += target.extension().string();
+    return target.parent_path() / name;
+}
+
+// Display-referred values in [0, 1] to integers, rounding to nearest so that mid-grey and
+// other exact values land on the code value a colour-science formula predicts.
+template <typename T>
+std::vector<T> quantise(const std::vector<float>& values, int channels_in, int channels_out) {
+    // In double: a float product can itself round across the .5 boundary at 16 bits.
+    constexpr double scale = std::numeric_limits<T>::max();
+    const size_t pixels = values.size() / channels_in;
+    std::vector<T> out(pixels * channels_out);
+    for (size_t i = 0; i < pixels; ++i) {
+        for (int c = 0; c < channels_out; ++c) {
+            float v = values[i * channels_in + c];
+            v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+            out[i * channels_out + c] = static_cast<T>(std::lround(static_cast<double>(v) * scale));
+        }
+    }
+    return out;
+}
+
+std::vector<float> drop_alpha(const std::vector<float>& rgba) {
+    std::vector<float> rgb(rgba.size() / 4 * 3);
+    for (size_t i = 0; i < rgba.size() / 4; ++i)
+        for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = rgba[i * 4 + c];
+    return rgb;
+}
+
+// Pixels in the layout and type the file will hold, plus the matching spec.
+struct Encoded {
+    OIIO::ImageSpec spec;
+    OIIO::TypeDesc type;
+    std::vector<float> f32;
+    std::vector<uint8_t> u8;
+    std::vector<uint16_t> u16;
+    const void* data() const {
+        if (!f32.empty()) return f32.data();
+        if (!u8.empty()) return u8.data();
+        return u16.data();
+    }
+};
+
+Encoded encode(const Image& image, const std::string& path, const FormatInfo& info,
+               const OutputSettings& settings) {
+    Encoded enc;
+    const int w = image.width, h = image.height;
+    switch (info.format) {
+    case Format::exr:
+        enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+        enc.spec.attribute("compression", "zip");
+        enc.type = OIIO::TypeDesc::FLOAT;
+        enc.f32 = image.rgba;
+        return enc;
+    case Format::hdr:
+        // RGBE has no alpha channel.
+        enc.spec = OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT);
+        enc.type = OIIO::TypeDesc::FLOAT;
+        enc.f32 = drop_alpha(image.rgba);
+        return enc;
+    case Format::png:
+    case Format::tiff:
+    case Format::jpeg:
+        break;
+    }
+
+    int bits = 8;
+    if (info.format != Format::jpeg) {
+        if (settings.bits != 8 && settings.bits != 16)
+            fail(path, std::string(info.label) + " bit depth must be 8 or 16, not " +
+                           std::to_string(settings.bits));
+        bits = settings.bits;
+    }
+    // JPEG has no alpha; PNG and TIFF keep it.
+    const int channels = info.format == Format::jpeg ? 3 : 4;
+    Image display = image;
+    if (channels == 4) {
+        // The film is premultiplied (associated) like EXR; PNG stores straight alpha, and a
+        // display transform is only meaningful on un-premultiplied colour. Alpha 0 keeps its
+        // colour rather than dividing by zero.
+        for (size_t i = 0; i < display.rgba.size(); i += 4) {
+            const float a = display.rgba[i + 3];
+            if (a > 0.0f && a != 1.0f)
+                for (int c = 0; c < 3; ++c) display.rgba[i + c] /= a;
+        }
+    }
+    try {
+        DisplayTransform transform(settings.display);
+        transform.apply(display);
+    } catch (const std::exception& e) {
+        fail(path, e.what());
+    }
+    if (bits == 8) {
+        enc.type = OIIO::TypeDesc::UINT8;
+        enc.u8 = quantise<uint8_t>(display.rgba, 4, channels);
+    } else {
+        enc.type = OIIO::TypeDesc::UINT16;
+        enc.u16 = quantise<uint16_t>(display.rgba, 4, channels);
+    }
+    enc.spec = OIIO::ImageSpec(w, h, channels, enc.type);
+    if (channels == 4) {
+        // Already un-premultiplied above: stop OIIO from dividing by alpha a second time.
+        enc.spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
+    if (info.format == Format::jpeg) {
+        const int quality = std::clamp(settings.quality, 1, 100);
+        enc.spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+        // Renders have sharp coloured edges (lights, saturated materials) that 4:2:0 chroma
+        // subsampling visibly smears; full-resolution chroma costs little at these qualities.
+        enc.spec.attribute("jpeg:subsampling", "4:4:4");
+    }
+    if (info.format == Format::tiff) enc.spec.attribute("compression", "zip");
+    return enc;
+}
+
+// Removes our temp file; never a folder that merely happens to have its name.
+void remove_quietly(const fs::path& p) {
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(p, ec))) fs::remove(p, ec);
+}
+
+}  // namespace
+
+bool is_scene_linear_format(const std::string& path) {
+    FormatInfo info;
+    return format_of(path, info) && (info.format == Format::exr || info.format == Format::hdr);
+}
+
+void write_image(const Image& image, const std::string& path, const OutputSettings& settings) {
+    FormatInfo info;
+    if (!format_of(path, info)) {
+        const std::string ext = fs::path(path).extension().string();
+        fail(path, ext.empty() ? "unknown image format (no extension)"
+                               : "unknown image format '" + ext + "'");
+    }
+    if (image.width <= 0 || image.height <= 0 ||
+        image.rgba.size() != static_cast<size_t>(image.width) * image.height * 4)
+        fail(path, "invalid image (" + std::to_string(image.width) + "x" +
+                       std::to_string(image.height) + ")");
+
+    const fs::path target(path);
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) fail(path, "folder '" + folder.string() + "' does not exist");
+    if (fs::is_directory(target, ec)) fail(path, "is a folder");
+
+    // Everything that can fail before touching the disk (display transform, settings) happens
+    // here, so a bad setting never creates a temp file.
+    Encoded enc = encode(image, path, info, settings);
+    for (const auto& [key, value] : settings.metadata) enc.spec.attribute(key, value);
+
+    const fs::path temp = temp_path_for(target);
+    auto out = OIIO::ImageOutput::create(info.oiio_name);
+    if (!out) fail(path, std::string("no OpenImageIO writer for ") + info.label + ": " + OIIO::geterror());
+    if (!out->open(temp.string(), enc.spec)) {
+        std::string err = out->geterror();
+        out.reset();
+        remove_quietly(temp);
+        fail(path, "cannot create '" + temp.string() + "': " + err);
+    }
+    bool ok = out->write_image(enc.type, enc.data());
+    std::string err = ok ? std::string() : out->geterror();
+    // close() flushes; a failure there (disk full) must also abort the rename.
+    if (!out->close() && ok) {
+        ok = false;
+        err = out->geterror();
+    }
+    out.reset();
+    if (!ok) {
+        remove_quietly(temp);
+        fail(path, "write failed: " + (err.empty() ? std::string("unknown error") : err));
+    }
+    // rename() within one folder is atomic: readers see the old file or the new, never a mix.
+    if (std::rename(temp.c_str(), target.c_str()) != 0) {
+        const int e = errno;
+        remove_quietly(temp);
+        fail(path, std::string("cannot replace file: ") + std::strerror(e));
+    }
+}
+
+}  // namespace veach

@@ -1,0 +1,55 @@
+#include "scene/scene.h"
+
+namespace veach {
+
+Bounds3 Scene::bounds() const {
+    Bounds3 b;
+    for (const Instance& inst : instances) {
+        for (const Vec3& p : meshes[inst.mesh].positions) b.extend(inst.object_to_world.point(p));
+    }
+    return b;
+}
+
+size_t Scene::triangle_count() const {
+    size_t n = 0;
+    for (const Instance& inst : instances) n += meshes[inst.mesh].triangle_count();
+    return n;
+}
+
+const Material& Scene::default_material() {
+    // The glTF spec's default material: white, metallic 1, roughness 1, single-sided.
+    static const Material m = [] {
+        Material d;
+        d.name = "default";
+        return d;
+    }();
+    return m;
+}
+
+const Material& Scene::material_of(const Mesh& mesh) const {
+    if (mesh.material >= 0 && static_cast<size_t>(mesh.material) < materials.size())
+        return materials[mesh.material];
+    return default_material();
+}
+
+std::vector<std::string> SceneFeatures::names() const {
+    std::vector<std::string> out;
+    auto add = [&](bool on, const char* name) {
+        if (on) out.emplace_back(name);
+    };
+    add(textures, "textures");
+    add(normal_maps, "normal_maps");
+    add(alpha, "alpha");
+    add(transmission, "transmission");
+    add(volume, "volume");
+    add(clearcoat, "clearcoat");
+    add(sheen, "sheen");
+    add(punctual_lights, "punctual_lights");
+    add(emissive_meshes, "emissive_meshes");
+    add(environment, "environment");
+    add(instancing, "instancing");
+    add(vertex_colors, "vertex_colors");
+    return out;
+}
+
+}  // namespace veach

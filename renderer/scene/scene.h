@@ -1,0 +1,145 @@
+// The scene as plain data: flat arrays addressed by integer handles, independent of any file
+// format and of Embree. Importers fill it; the renderer prepares acceleration structures and
+// light tables from it and never changes it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "core/rgb.h"
+#include "scene/scene_features.h"
+
+namespace veach {
+
+enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+
+// A decoded texture, RGBA. Colour textures (srgb = true) keep their sRGB-encoded values and are
+// decoded to linear after filtering: Cycles filters 8-bit sRGB images in the encoded space, and
+// filtering in linear space instead makes every edge of a magnified texture visibly brighter
+// than Blender's render (5-30% on ../shared/scenes/textured). At texel centres both agree exactly.
+struct Texture {
+    std::string name;
+    int width = 0, height = 0;
+    std::vector<float> texels;  // width * height * 4, row 0 is the top of the image (v = 0)
+    bool srgb = false;          // RGB encoded with the sRGB transfer function; alpha always linear
+    WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
+    bool nearest = false;       // magnification filter NEAREST; otherwise bilinear
+};
+
+// KHR_texture_transform, applied to the texture coordinate before lookup.
+struct UvTransform {
+    float offset[2] = {0, 0};
+    float rotation = 0;
+    float scale[2] = {1, 1};
+    bool is_identity() const {
+        return offset[0] == 0 && offset[1] == 0 && rotation == 0 && scale[0] == 1 && scale[1] == 1;
+    }
+};
+
+struct TextureRef {
+    int32_t texture = -1;  // index into Scene::textures, -1 = none
+    int32_t texcoord = 0;  // TEXCOORD_n set
+    UvTransform transform;
+    bool valid() const { return texture >= 0; }
+};
+
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
+
+// glTF metallic-roughness material with the extensions Blender writes. Factors multiply the
+// textures as the glTF spec says.
+struct Material {
+    std::string name;
+    Rgb base_color{1, 1, 1};
+    float base_alpha = 1;
+    TextureRef base_color_texture;
+    float metallic = 1, roughness = 1;
+    TextureRef metallic_roughness_texture;  // roughness in G, metallic in B
+    Rgb emission{0, 0, 0};                  // emissiveFactor x KHR_materials_emissive_strength: radiance
+    TextureRef emissive_texture;
+    float ior = 1.5f;                       // KHR_materials_ior
+    float specular = 1;                     // KHR_materials_specular specularFactor
+    Rgb specular_color{1, 1, 1};            // KHR_materials_specular specularColorFactor
+    TextureRef specular_texture;            // factor in A
+    TextureRef specular_color_texture;      // colour in RGB (sRGB)
+    TextureRef normal_texture;
+    float normal_scale = 1;
+    bool double_sided = false;
+    AlphaMode alpha_mode = AlphaMode::Opaque;
+    float alpha_cutoff = 0.5f;
+
+    bool is_emissive() const { return !emission.is_black(); }
+};
+
+// One glTF primitive: triangles with one material. Attributes are either empty or one per vertex.
+struct Mesh {
+    std::string name;
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;      // empty: flat shading from the geometric normal
+    std::vector<Vec2> uv0, uv1;
+    std::vector<Rgba> colors;       // COLOR_0
+    std::vector<uint32_t> indices;  // three per triangle
+    int32_t material = -1;          // -1: the glTF default material
+
+    size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// A placement of a mesh in the world. A glTF mesh used by several nodes becomes several
+// instances of the same Mesh entries: stored once, instanced by the accelerator.
+struct Instance {
+    uint32_t mesh = 0;
+    Transform object_to_world;
+};
+
+enum class LightType : uint8_t { Point, Spot, Directional };
+
+// How a spot light's intensity falls off inside its cone.
+enum class SpotFalloff : uint8_t {
+    Gltf,     // the glTF spec's recommended falloff between inner and outer cone
+    Blender,  // Cycles 3.4: cos(theta) * smoothstep(t / ((1 - cos(size/2)) * blend))
+};
+
+// KHR_lights_punctual, converted to Cycles' radiometry: point and spot intensity in W/sr,
+// directional irradiance in W/m^2 (the photometric values Blender writes divided by 683).
+struct PunctualLight {
+    std::string name;
+    LightType type = LightType::Point;
+    Rgb intensity;            // colour x intensity, radiometric
+    Vec3 position;            // world
+    Vec3 direction{0, 0, -1}; // world, the direction light travels (spot axis, sun direction)
+    float cos_outer = -1, cos_inner = -1;  // spot cone
+    float blend = 0;                       // Blender spot blend, derived from the cone angles
+    SpotFalloff falloff = SpotFalloff::Gltf;
+    float range = 0;          // 0 = infinite (the range cut-off is a real-time hint we ignore)
+};
+
+struct Camera {
+    std::string name;
+    bool orthographic = false;
+    float yfov = 0.8f;        // perspective vertical field of view, radians
+    float aspect_ratio = 0;   // 0 = not given: use the image's
+    float xmag = 1, ymag = 1; // orthographic half extents
+    float znear = 0.01f, zfar = 0;  // zfar 0 = infinite
+    Transform camera_to_world;      // looks down -Z, +Y up (glTF convention)
+};
+
+struct Scene {
+    std::string source_path;
+    std::vector<Mesh> meshes;
+    std::vector<Instance> instances;
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<PunctualLight> lights;
+    std::vector<Camera> cameras;
+    std::vector<std::string> warnings;  // each said once, for the front end to print
+    SceneFeatures features;
+
+    // World-space bounds of all instanced geometry.
+    Bounds3 bounds() const;
+    size_t triangle_count() const;  // instanced triangles, counted per instance
+    const Material& material_of(const Mesh& mesh) const;
+    static const Material& default_material();
+};
+
+}  // namespace veach

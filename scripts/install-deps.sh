@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs what Veach needs to build, test and benchmark, from Debian 12 packages only.
+# Does nothing when everything is already there. Run as root (or with sudo available).
+#   scripts/install-deps.sh          build + test dependencies
+#   scripts/install-deps.sh --bench  also what `make bench` uses (Blender for Cycles timings)
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git
+  libembree-dev libtbb-dev libopenimageio-dev libopencolorio-dev
+  libtinygltf-dev libstb-dev nlohmann-json3-dev libgtest-dev
+  openimageio-tools opencolorio-tools
+  python3 python3-numpy python3-openimageio
+)
+if [[ "${1:-}" == "--bench" ]]; then
+  packages+=(blender gnuplot)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}" >&2
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: run as root (or install sudo): ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

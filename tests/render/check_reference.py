@@ -1,0 +1,49 @@
+#!/usr/bin/python3
+"""check_reference.py --veach BIN --scene NAME [--spp N] [--integrator I] [--mean-tol T] [--block-tol T]
+
+Renders ../shared/scenes/NAME/NAME.gltf at the reference's resolution and compares it with the
+Cycles reference using ../shared/tools/compare.py's measures: every channel's mean within
+--mean-tol (relative), every lit 16x16 block mean within --block-tol, no non-finite value.
+Exit 0 pass, 1 fail, 77 skip (no shared/ folder beside the project)."""
+import argparse, json, os, subprocess, sys, tempfile
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--veach", required=True)
+ap.add_argument("--shared", required=True)
+ap.add_argument("--scene", required=True)
+ap.add_argument("--spp", type=int, default=256)
+ap.add_argument("--integrator", default="pt")
+ap.add_argument("--mean-tol", type=float, default=0.02)
+ap.add_argument("--block-tol", type=float, default=0.05)
+ap.add_argument("--extra", default="", help="more veach arguments, space separated")
+a = ap.parse_args()
+
+scene_dir = os.path.join(a.shared, "scenes", a.scene)
+if not os.path.isdir(scene_dir):
+    print("SKIP: no shared scenes at %s" % scene_dir)
+    sys.exit(77)
+sys.path.insert(0, os.path.join(a.shared, "tools"))
+import compare  # noqa: E402  (../shared/tools/compare.py)
+
+meta = json.load(open(os.path.join(scene_dir, a.scene + ".cycles.json")))
+with tempfile.TemporaryDirectory() as tmp:
+    out = os.path.join(tmp, a.scene + ".exr")
+    cmd = [a.veach, "render", os.path.join(scene_dir, a.scene + ".gltf"), "-o", out,
+           "--width", str(meta["width"]), "--height", str(meta["height"]), "--spp", str(a.spp),
+           "--integrator", a.integrator, "--quiet", "--stats-json", os.path.join(tmp, "stats.json")]
+    cmd += a.extra.split()
+    subprocess.run(cmd, check=True)
+    res = compare.compare(compare.load(out), compare.load(os.path.join(scene_dir, a.scene + ".cycles.exr")))
+    stats = json.load(open(os.path.join(tmp, "stats.json")))
+print("%s %s %d spp: relmse %.5f mean %s blocks %.4f nonfinite %d (dropped samples %d)" % (
+    a.scene, a.integrator, a.spp, res["relmse"], " ".join("%.4f" % m for m in res["mean"]), res["blocks"],
+    res["nonfinite"], stats["nonfinite_samples"]))
+ok = True
+for c, m in zip("RGB", res["mean"]):
+    if abs(m - 1.0) > a.mean_tol:
+        print("FAIL: channel %s mean ratio %.4f is off by more than %.3f" % (c, m, a.mean_tol)); ok = False
+if res["blocks"] > a.block_tol:
+    print("FAIL: worst 16x16 block differs by %.4f > %.3f" % (res["blocks"], a.block_tol)); ok = False
+if res["nonfinite"] or stats["nonfinite_samples"]:
+    print("FAIL: non-finite values"); ok = False
+sys.exit(0 if ok else 1)
