@@ -1,11 +1,18 @@
 # The two commands of the quick start, and the developer targets around them.
 #   make render   set up, build (Release) and render the bundled example to out/
 #   make test     set up, build and run the test suite
+#   make install PREFIX=/opt/veach  headers, libveach, CMake package, veach.pc, `veach`, the add-on
+#   make test-sanitize  the whole suite under ASan + UBSan (build-sanitize/, reduced sample counts)
+#   make fuzz FUZZ_SECONDS=N  libFuzzer on the importer (build-fuzz/, clang 14)
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build render test bench clean
+SANITIZE_DIR ?= build-sanitize
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+
+.PHONY: all deps configure build render test test-sanitize fuzz bench install clean
 
 all: build
 
@@ -24,6 +31,32 @@ render: build
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+install: build
+	cmake --install $(BUILD_DIR) $(if $(PREFIX),--prefix $(PREFIX))
+
+# Sanitizers make rays ~10x dearer: VEACH_TEST_SPP_DIVISOR divides the render tests' sample
+# counts (their tolerances widen by its square root). Any report fails the test that caused it.
+test-sanitize: deps
+	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVEACH_SANITIZE=ON $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	@cd $(SANITIZE_DIR) && VEACH_TEST_SPP_DIVISOR=8 \
+	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=0 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/robustness/lsan.supp:print_suppressions=0 \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer on the importer for FUZZ_SECONDS; new inputs go to $(FUZZ_DIR)/corpus, findings to
+# $(FUZZ_DIR)/findings (turn each into a regression test in tests/robustness/data).
+fuzz:
+	@bash scripts/install-deps.sh --fuzz
+	@cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 \
+	  -DCMAKE_CXX_COMPILER=clang++-14 -DVEACH_FUZZ=ON -DVEACH_BUILD_TESTS=OFF >/dev/null
+	@cmake --build $(FUZZ_DIR) -j $(JOBS) --target veach_fuzz_importer
+	@mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/findings
+	@ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1 $(FUZZ_DIR)/fuzz/veach_fuzz_importer \
+	  $(FUZZ_DIR)/corpus fuzz/corpus -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	  -max_len=65536 -artifact_prefix=$(FUZZ_DIR)/findings/ -print_final_stats=1
 
 bench: build
 	@bash scripts/install-deps.sh --bench

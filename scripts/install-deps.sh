@@ -3,6 +3,7 @@
 # Does nothing when everything is already there. Run as root (or with sudo available).
 #   scripts/install-deps.sh          build + test dependencies
 #   scripts/install-deps.sh --bench  also what `make bench` uses (Blender for Cycles timings)
+#   scripts/install-deps.sh --fuzz   also what `make fuzz` uses (clang 14 with libFuzzer)
 set -euo pipefail
 
 packages=(
@@ -11,9 +12,15 @@ packages=(
   libtinygltf-dev libstb-dev nlohmann-json3-dev libgtest-dev
   openimageio-tools opencolorio-tools
   python3 python3-numpy python3-openimageio
+  blender  # the add-on's headless test (tests/api/check_blender.py); ~23 MB download, with its
+           # glTF exporter (which needs python3-numpy, above)
+  assimp-testmodels
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(blender gnuplot)
+fi
+if [[ "${1:-}" == "--fuzz" ]]; then
+  packages+=(clang-14 libclang-rt-14-dev)
 fi
 
 missing=()

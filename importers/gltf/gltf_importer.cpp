@@ -19,6 +19,7 @@
 
 #include "importers/gltf/gltf_accessors.h"
 #include "importers/gltf/gltf_materials.h"
+#include "scene/mesh_tangents.h"
 
 namespace veach {
 namespace {
@@ -37,10 +38,10 @@ constexpr uint64_t k_max_file_bytes = UINT_MAX;  // tinygltf takes 32-bit length
 // change what a file means when they are only "used" (a plain material is the fallback).
 constexpr std::string_view k_supported_extensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_specular", "KHR_texture_transform", "KHR_mesh_quantization"};
+    "KHR_materials_specular", "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_variants"};
 constexpr std::string_view k_planned_extensions[] = {
     "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
-    "KHR_materials_sheen", "KHR_materials_unlit", "KHR_materials_variants"};
+    "KHR_materials_sheen", "KHR_materials_unlit"};
 
 template <size_t N>
 bool contains(const std::string_view (&list)[N], const std::string& name) {
@@ -262,6 +263,7 @@ private:
     size_t m_visits = 0;
     std::vector<LightDef> m_lights;
     SpotFalloff m_spot_falloff = SpotFalloff::Gltf;
+    int m_variant = -1;  // KHR_materials_variants index chosen by ImportOptions::variant
     size_t m_skipped_line_primitives = 0, m_dropped_triangles = 0;
 };
 
@@ -298,8 +300,24 @@ void GltfImporter::check_extensions() {
     for (const std::string& name : m_model.extensionsUsed)
         if (!contains(k_supported_extensions, name) && !contains(k_planned_extensions, name))
             m_context->warn("ignoring unsupported extension " + name);
-    if (!m_options.variant.empty())
-        m_context->warn("material variants are not supported yet; variant '" + m_options.variant + "' ignored");
+    if (!m_options.variant.empty()) {
+        // KHR_materials_variants: the root lists variant names; a name the file lacks is bad input.
+        std::string known;
+        auto ext = m_model.extensions.find("KHR_materials_variants");
+        if (ext != m_model.extensions.end() && ext->second.Has("variants") && ext->second.Get("variants").IsArray()) {
+            const tinygltf::Value& list = ext->second.Get("variants");
+            for (int i = 0; i < static_cast<int>(list.ArrayLen()); ++i) {
+                const tinygltf::Value& v = list.Get(i);
+                if (!v.Has("name") || !v.Get("name").IsString()) continue;
+                const std::string& name = v.Get("name").Get<std::string>();
+                if (name == m_options.variant && m_variant < 0) m_variant = i;
+                known += (known.empty() ? "'" : ", '") + name + "'";
+            }
+        }
+        if (m_variant < 0)
+            throw GltfError("no material variant '" + m_options.variant + "' (variants: " +
+                            (known.empty() ? std::string("none") : known) + ")");
+    }
 
     switch (m_options.spot_profile) {
         case SpotProfile::Blender: m_spot_falloff = SpotFalloff::Blender; break;
@@ -554,14 +572,44 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
     }
     mesh.indices = std::move(triangles);
 
-    if (prim.material != -1) {
-        if (prim.material < 0 || static_cast<size_t>(prim.material) >= m_model.materials.size())
-            throw GltfError(what + ": material " + std::to_string(prim.material) + " does not exist (the file has " +
+    // The chosen variant's material replaces the default where the primitive maps it.
+    int material_index = prim.material;
+    auto variants = prim.extensions.find("KHR_materials_variants");
+    if (m_variant >= 0 && variants != prim.extensions.end() && variants->second.Has("mappings")) {
+        const tinygltf::Value& mappings = variants->second.Get("mappings");
+        for (int i = 0; mappings.IsArray() && i < static_cast<int>(mappings.ArrayLen()); ++i) {
+            const tinygltf::Value& m = mappings.Get(i);
+            if (!m.Has("material") || !m.Get("material").IsNumber() || !m.Has("variants")) continue;
+            const tinygltf::Value& list = m.Get("variants");
+            for (int k = 0; list.IsArray() && k < static_cast<int>(list.ArrayLen()); ++k)
+                if (list.Get(k).IsNumber() && list.Get(k).GetNumberAsInt() == m_variant)
+                    material_index = m.Get("material").GetNumberAsInt();
+        }
+    }
+    if (material_index != -1) {
+        if (material_index < 0 || static_cast<size_t>(material_index) >= m_model.materials.size())
+            throw GltfError(what + ": material " + std::to_string(material_index) + " does not exist (the file has " +
                             std::to_string(m_model.materials.size()) + ")");
-        mesh.material = m_materials->material(prim.material);
+        mesh.material = m_materials->material(material_index);
     }
     if (m_scene.material_of(mesh).is_emissive()) m_scene.features.emissive_meshes = true;
     if (!mesh.colors.empty()) m_scene.features.vertex_colors = true;
+    // Tangent frames only for normal-mapped materials: the file's TANGENT (xyz, handedness w),
+    // else generated from the normal texture's UV set.
+    if (const Material& mat = m_scene.material_of(mesh); mat.normal_texture.valid()) {
+        if (has("TANGENT")) {
+            gltf::FloatAccessor a = read("TANGENT", gltf::AttributeFormat{4, 4, false, true, false});
+            mesh.tangents.resize(n);
+            mesh.tangent_signs.resize(n);
+            for (size_t i = 0; i < n; ++i) {
+                const float* v = &a.values[4 * i];
+                mesh.tangents[i] = Vec3(v[0], v[1], v[2]);
+                mesh.tangent_signs[i] = v[3] < 0.0f ? -1.0f : 1.0f;
+            }
+        } else {
+            generate_tangents(&mesh, mat.normal_texture.texcoord);
+        }
+    }
     return mesh;
 }
 

@@ -22,6 +22,8 @@
 #include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
+#include "textures/image_reader.h"
+
 namespace veach::gltf {
 namespace {
 
@@ -136,6 +138,60 @@ Material MaterialConverter::convert(int index) {
                                                what + " specularColorTexture");
     }
 
+    if (const tinygltf::Value* tr = json_extension(src.extensions, "KHR_materials_transmission")) {
+        m.transmission = clamp(static_cast<float>(json_number(tr, "transmissionFactor", 0.0)), 0.0f, 1.0f);
+        m.transmission_texture = texture_ref(json_info(json_member(tr, "transmissionTexture")), ColorSpace::Linear,
+                                             what + " transmissionTexture");
+    }
+
+    if (const tinygltf::Value* vol = json_extension(src.extensions, "KHR_materials_volume")) {
+        std::array<double, 3> color{1, 1, 1};
+        if (json_member(vol, "attenuationColor") && !numbers(json_member(vol, "attenuationColor"), color))
+            m_context.warn(what + ": invalid attenuationColor, using white");
+        m.attenuation_color = to_rgb(color);
+        double distance = json_number(vol, "attenuationDistance", 0.0);  // absent: infinite
+        m.attenuation_distance = std::isfinite(distance) && distance > 0.0 ? static_cast<float>(distance) : 0.0f;
+    }
+    if (const tinygltf::Value* cc = json_extension(src.extensions, "KHR_materials_clearcoat")) {
+        m.clearcoat = clamp(static_cast<float>(json_number(cc, "clearcoatFactor", 0.0)), 0.0f, 1.0f);
+        m.clearcoat_roughness = clamp(static_cast<float>(json_number(cc, "clearcoatRoughnessFactor", 0.0)), 0.0f, 1.0f);
+        m.clearcoat_texture = texture_ref(json_info(json_member(cc, "clearcoatTexture")), ColorSpace::Linear,
+                                          what + " clearcoatTexture");
+        m.clearcoat_roughness_texture = texture_ref(json_info(json_member(cc, "clearcoatRoughnessTexture")),
+                                                    ColorSpace::Linear, what + " clearcoatRoughnessTexture");
+        const tinygltf::Value* normal = json_member(cc, "clearcoatNormalTexture");
+        m.clearcoat_normal_texture =
+            texture_ref(json_info(normal), ColorSpace::Linear, what + " clearcoatNormalTexture");
+        m.clearcoat_normal_scale = static_cast<float>(json_number(normal, "scale", 1.0));
+    }
+    if (const tinygltf::Value* sh = json_extension(src.extensions, "KHR_materials_sheen")) {
+        std::array<double, 3> color{0, 0, 0};
+        if (json_member(sh, "sheenColorFactor") && !numbers(json_member(sh, "sheenColorFactor"), color))
+            m_context.warn(what + ": invalid sheenColorFactor, using black");
+        m.sheen_color = to_rgb(color);
+        m.sheen_roughness = clamp(static_cast<float>(json_number(sh, "sheenRoughnessFactor", 0.0)), 0.0f, 1.0f);
+        m.sheen_color_texture = texture_ref(json_info(json_member(sh, "sheenColorTexture")), ColorSpace::Srgb,
+                                            what + " sheenColorTexture");
+        m.sheen_roughness_texture = texture_ref(json_info(json_member(sh, "sheenRoughnessTexture")),
+                                                ColorSpace::Linear, what + " sheenRoughnessTexture");
+    }
+    if (json_extension(src.extensions, "KHR_materials_unlit")) {
+        // Unlit: the base colour is what the viewer sees, whatever the lighting. In a path
+        // tracer that is a surface emitting its base colour as radiance and scattering nothing:
+        // it shows exactly its colour to the camera (and, consistently, lights its surroundings).
+        m.unlit = true;
+        m.emission = m.base_color;
+        m.emissive_texture = m.base_color_texture;
+        m.base_color = Rgb(0.0f);
+        m.base_color_texture = TextureRef{};
+        m.metallic = 0.0f;
+        m.specular = 0.0f;
+        m.transmission = 0.0f;
+        m.transmission_texture = TextureRef{};
+        m.clearcoat = 0.0f;
+        m.sheen_color = Rgb(0.0f);
+    }
+
     m.double_sided = src.doubleSided;
     if (src.alphaMode == "MASK") {
         m.alpha_mode = AlphaMode::Mask;
@@ -148,10 +204,16 @@ Material MaterialConverter::convert(int index) {
 
     SceneFeatures& features = m_context.scene.features;
     for (const TextureRef* ref : {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture,
-                                  &m.normal_texture, &m.specular_texture, &m.specular_color_texture})
+                                  &m.normal_texture, &m.specular_texture, &m.specular_color_texture,
+                                  &m.transmission_texture, &m.clearcoat_texture, &m.clearcoat_roughness_texture,
+                                  &m.clearcoat_normal_texture, &m.sheen_color_texture, &m.sheen_roughness_texture})
         features.textures |= ref->valid();
     features.normal_maps |= m.normal_texture.valid();
     features.alpha |= m.alpha_mode != AlphaMode::Opaque;
+    features.transmission |= m.transmission > 0.0f || m.transmission_texture.valid();
+    features.volume |= (m.transmission > 0.0f || m.transmission_texture.valid()) && m.attenuation_distance > 0.0f;
+    features.clearcoat |= m.clearcoat > 0.0f;
+    features.sheen |= !m.sheen_color.is_black();
     return m;
 }
 
@@ -226,8 +288,38 @@ Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std
     int size = static_cast<int>(bytes.size());
 
     int width = 0, height = 0, channels = 0;
-    if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels))
-        throw GltfError(where + ": cannot decode (" + stb_reason() + ")");
+    if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels)) {
+        // Not PNG or JPEG (what Blender writes) but perhaps EXR, TIFF, ... from another tool:
+        // OpenImageIO. Float images hold linear values, so a colour texture from one is stored
+        // linear (srgb = false); integer images keep their encoded values, as from stb.
+        std::string stb_error = stb_reason();
+        ImageData img;
+        try {
+            std::string name = !image.uri.empty() && !image.uri.starts_with("data:") ? image.uri : "image";
+            if (image.mimeType == "image/x-exr" || image.mimeType == "image/exr") name += ".exr";
+            else if (image.mimeType == "image/tiff") name += ".tif";
+            img = read_image_memory(bytes.data(), bytes.size(), name);
+        } catch (const ImageReadError&) {
+            throw GltfError(where + ": cannot decode (" + stb_error + ")");
+        }
+        uint64_t count = static_cast<uint64_t>(img.width) * static_cast<uint64_t>(img.height);
+        if (count > k_max_texels)
+            throw GltfError(where + ": image size " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                            " is out of range");
+        m_context.charge(count * 4 * sizeof(float), where, Budget::Textures);
+        Texture tex;
+        tex.name = !image.name.empty() ? image.name : "image " + std::to_string(src.source);
+        tex.width = img.width;
+        tex.height = img.height;
+        tex.texels = std::move(img.rgba);
+        tex.srgb = space == ColorSpace::Srgb && img.srgb_encoded;
+        if (sampler) {
+            tex.wrap_s = wrap_mode(sampler->wrapS);
+            tex.wrap_t = wrap_mode(sampler->wrapT);
+            tex.nearest = sampler->magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        }
+        return tex;
+    }
     uint64_t texels = static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
     if (width <= 0 || height <= 0 || texels > k_max_texels)
         throw GltfError(where + ": image size " + std::to_string(width) + "x" + std::to_string(height) +

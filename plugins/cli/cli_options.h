@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "api/environment_options.h"
 #include "api/render_job.h"
 #include "importers/importer.h"
 #include "output/image_output.h"
@@ -21,10 +22,17 @@ struct RenderCommand {
     std::vector<std::string> outputs;  // files or patterns with {stem}; -o may repeat
     ImportOptions import;
     RenderJobOptions job;
+    EnvironmentOptions environment;
     OutputSettings output_settings;
     std::string stats_json;
     bool quiet = false;
+    bool skip_existing = false;       // skip inputs whose outputs all exist
+    double checkpoint_seconds = -1;   // --checkpoint: < 0 none, else the interval (0: every pass)
+    bool resume = false;              // --resume: continue from the checkpoint when there is one
 };
+
+// The checkpoint file for one input: beside its first output.
+std::string checkpoint_path_for(const RenderCommand& cmd, const std::string& input);
 
 // Parses the arguments after "render". Throws UsageError.
 RenderCommand parse_render_command(const std::vector<std::string>& args);

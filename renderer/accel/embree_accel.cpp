@@ -5,7 +5,47 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/rng.h"
+#include "materials/alpha.h"
+
 namespace veach {
+
+namespace {
+
+// What an alpha filter needs to decide a hit: the mesh's attributes and its material.
+struct AlphaGeometry {
+    const Scene* scene;
+    const Mesh* mesh;
+    const Material* material;
+};
+
+// Embree calls this for every candidate hit on geometry with a MASK or BLEND material (and only
+// there: opaque geometry has no filter and costs nothing). Rejecting a hit (valid = 0) lets the
+// traversal continue past it. BLEND decides with a hash of the ray and the primitive, not a
+// random stream: the same ray always makes the same decision, and since rays derive from the
+// (seed, pixel, sample) stream, images stay independent of threads and scheduling.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* ag = static_cast<const AlphaGeometry*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+        float alpha = surface_alpha(*ag->scene, *ag->mesh, *ag->material, prim, u, v);
+        float xi = 0.0f;
+        if (ag->material->alpha_mode == AlphaMode::Blend) {
+            uint64_t h = mix64(prim + 0x9e3779b97f4a7c15ull * (RTCHitN_instID(args->hit, args->N, i, 0) + 1ull));
+            h = mix64(h ^ RTCHitN_geomID(args->hit, args->N, i));
+            const float ray[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                                  RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                                  RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+            for (float f : ray) h = mix64(h ^ float_bits(f));
+            xi = static_cast<float>(h >> 40) * 0x1p-24f;
+        }
+        if (!alpha_accepts(*ag->material, alpha, xi)) args->valid[i] = 0;
+    }
+}
+
+}  // namespace
 
 struct Accel::Impl {
     const Scene& scene;
@@ -14,6 +54,7 @@ struct Accel::Impl {
     std::vector<RTCScene> mesh_scenes;             // per mesh placed several times, else null
     std::vector<std::vector<Vec3>> baked;          // per instance: world positions, or empty
     std::vector<uint32_t> geom_to_instance;        // top-level geometry id -> instance
+    std::vector<std::unique_ptr<AlphaGeometry>> alpha;  // filter data, stable addresses
 
     explicit Impl(const Scene& s) : scene(s) {}
     ~Impl() {
@@ -31,8 +72,19 @@ struct Accel::Impl {
                                    sizeof(Vec3), vertex_count);
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                    3 * sizeof(uint32_t), mesh.triangle_count());
+        install_alpha_filter(g, mesh);
         rtcCommitGeometry(g);
         return g;
+    }
+
+    // Alpha-tested materials get intersection and occlusion filters; everything else none.
+    void install_alpha_filter(RTCGeometry g, const Mesh& mesh) {
+        const Material& m = scene.material_of(mesh);
+        if (!needs_alpha_test(m)) return;
+        alpha.push_back(std::make_unique<AlphaGeometry>(AlphaGeometry{&scene, &mesh, &m}));
+        rtcSetGeometryUserData(g, alpha.back().get());
+        rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
+        rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
     }
 };
 
@@ -78,6 +130,7 @@ Accel::Accel(const Scene& scene) : m_impl(std::make_unique<Impl>(scene)) {
                 std::copy(mesh.positions.begin(), mesh.positions.end(), vb);
                 rtcSetSharedGeometryBuffer(mg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                            3 * sizeof(uint32_t), mesh.triangle_count());
+                d.install_alpha_filter(mg, mesh);
                 rtcCommitGeometry(mg);
                 rtcAttachGeometry(sub, mg);
                 rtcReleaseGeometry(mg);

@@ -1,10 +1,14 @@
 #include "api/render_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
+
+#include "film/film_checkpoint.h"
 
 namespace veach {
 
@@ -31,22 +35,63 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     if (width > 65536 || height > 65536) throw std::invalid_argument("image size over 65536 pixels");
     if (options.render.spp < 1) throw std::invalid_argument("--spp must be at least 1");
     if (options.render.max_depth < 0) throw std::invalid_argument("--max-depth must not be negative");
-    std::unique_ptr<Integrator> integrator = make_integrator(options.render);
-
     RenderResult result;
+    RenderSettings chosen = options.render;
+    if (scene.features.volume && chosen.integrator != "pt") {
+        // Only the path tracer tracks the medium a path travels in (KHR_materials_volume);
+        // bdpt and lt would render absorbing glass as clear glass. Correct beats fast.
+        result.warnings.push_back("the scene uses KHR_materials_volume, which only --integrator pt renders; using pt");
+        chosen.integrator = "pt";
+    }
+    result.integrator = chosen.integrator;
+    std::unique_ptr<Integrator> integrator = make_integrator(chosen);
+
     result.camera_name = camera ? camera->name : "default";
     result.triangles = scene.triangle_count();
     auto t0 = clock::now();
     RenderScene rs(scene, camera, width, height);
     auto t1 = clock::now();
-    Film film(width, height);
-    result.stats = render_image(rs, *integrator, options.render, film, control);
+    Film film(width, height, options.film);
+    RenderSettings settings = chosen;
+    RenderControl session = control;
+    const CheckpointSettings& cp = options.checkpoint;
+    const uint64_t hash = render_settings_hash(options, result.camera_name, width, height);
+    std::error_code ec;
+    if (cp.resume && !cp.path.empty() && std::filesystem::exists(cp.path, ec)) {
+        result.resumed_spp = read_film_checkpoint(cp.path, film, hash);
+        // The film cannot drop samples: a checkpoint past the requested spp is the image.
+        settings.spp = std::max(settings.spp, result.resumed_spp);
+        session.first_sample = result.resumed_spp;
+    }
+    if (cp.write && !cp.path.empty()) {
+        auto last = clock::now();
+        session.pass_done = [&, last](int spp_done) mutable {
+            if (control.pass_done) control.pass_done(spp_done);
+            // The finished image is written right after the last pass: no state to keep then.
+            if (spp_done >= settings.spp) return;
+            if (std::chrono::duration<double>(clock::now() - last).count() < cp.interval_seconds) return;
+            write_film_checkpoint(cp.path, film, hash, spp_done);
+            last = clock::now();
+        };
+    }
+    result.stats = render_image(rs, *integrator, settings, film, session);
     auto t2 = clock::now();
     // Each pixel sample traced one light path (bdpt, lt): splats average over spp.
     result.image = film.resolve(result.stats.spp_done);
     result.build_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.render_seconds = std::chrono::duration<double>(t2 - t1).count();
     return result;
+}
+
+uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {
+    const RenderSettings& r = options.render;
+    std::string key = "veach-checkpoint-v1|" + std::to_string(width) + "x" + std::to_string(height) + "|camera=" +
+                      camera_name + "|seed=" + std::to_string(r.seed) + "|integrator=" + r.integrator +
+                      "|max_depth=" + std::to_string(r.max_depth) + "|strategy=" + std::to_string(r.bdpt_s) + "," +
+                      std::to_string(r.bdpt_t) + "|filter=" + filter_name(options.film.filter.type) + ":" +
+                      std::to_string(options.film.filter.width) + "|aovs=" + (options.film.aovs ? "1" : "0") +
+                      "|scene=" + std::to_string(options.checkpoint.scene_hash);
+    return fnv1a_64(key);
 }
 
 size_t peak_resident_bytes() {

@@ -12,11 +12,22 @@
 
 namespace veach {
 
+// Checkpoints let a killed render resume exactly (see film/film_checkpoint.h).
+struct CheckpointSettings {
+    std::string path;             // the state file; empty: no checkpoints, no resume
+    bool write = false;           // keep `path` up to date while rendering
+    double interval_seconds = 0;  // at the first pass boundary after this long (0: every pass)
+    bool resume = false;          // start from `path` when it exists
+    uint64_t scene_hash = 0;      // identifies the scene's content (e.g. a hash of the input file)
+};
+
 struct RenderJobOptions {
     std::string camera;  // a camera name or index; empty = the scene's first camera
     int width = 0;       // 0 = 1920
     int height = 0;      // 0 = from the camera's aspect ratio
     RenderSettings render;
+    FilmSettings film;   // pixel filter and AOV passes
+    CheckpointSettings checkpoint;
 };
 
 struct RenderResult {
@@ -26,12 +37,20 @@ struct RenderResult {
     double build_seconds = 0;
     double render_seconds = 0;
     size_t triangles = 0;
+    int resumed_spp = 0;  // samples per pixel loaded from a checkpoint
+    std::string integrator;              // the integrator that rendered (see render_scene)
+    std::vector<std::string> warnings;   // said once each, for the front end to print
 };
 
 // Throws std::invalid_argument with a one-line message when `spec` names no camera.
 const Camera* select_camera(const Scene& scene, const std::string& spec);
 
-// Renders; throws std::invalid_argument for bad settings.
+// A hash of every setting that shapes the image (size, camera, seed, integrator, depth, filter,
+// passes, scene) but not of spp, time limit or threads: a checkpoint resumes under any of those.
+uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height);
+
+// Renders; throws std::invalid_argument for bad settings, CheckpointError (film/film_checkpoint.h)
+// for a checkpoint that cannot be read or written.
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control = {});
 
 // Peak resident set size of this process in bytes (from /proc), 0 if unknown.

@@ -1,14 +1,16 @@
 #include "film/film.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace veach {
 
-Film::Film(int width, int height)
-    : m_width(width), m_height(height),
+Film::Film(int width, int height, const FilmSettings& settings)
+    : m_width(width), m_height(height), m_settings(settings), m_filter(settings.filter),
       m_pixels(static_cast<size_t>(width) * height),
       m_splats(new std::atomic<double>[static_cast<size_t>(width) * height * 3]) {
     for (size_t i = 0; i < static_cast<size_t>(width) * height * 3; ++i) m_splats[i] = 0.0;
+    if (settings.aovs) m_aovs.resize(m_pixels.size());
 }
 
 namespace {
@@ -19,34 +21,143 @@ void atomic_add(std::atomic<double>& a, double v) {
 }
 }  // namespace
 
+void Film::add_aovs(size_t i, const PixelAovs& aovs) {
+    AovSums& a = m_aovs[i];
+    if (a.count == 0.0) a.depth = aovs.hit ? aovs.depth : k_no_hit_depth;
+    if (aovs.hit) {
+        a.normal[0] += aovs.normal.x;
+        a.normal[1] += aovs.normal.y;
+        a.normal[2] += aovs.normal.z;
+        a.albedo[0] += aovs.albedo.r;
+        a.albedo[1] += aovs.albedo.g;
+        a.albedo[2] += aovs.albedo.b;
+    }
+    a.count += 1.0;
+}
+
 void Film::add_splat(float fx, float fy, const Rgb& value) {
-    // Box filter of one pixel: the splat belongs to the pixel that contains it.
-    int x = static_cast<int>(std::floor(fx));
-    int y = static_cast<int>(std::floor(fy));
-    if (x < 0 || y < 0 || x >= m_width || y >= m_height) return;
-    size_t i = (static_cast<size_t>(y) * m_width + x) * 3;
-    atomic_add(m_splats[i + 0], value.r);
-    atomic_add(m_splats[i + 1], value.g);
-    atomic_add(m_splats[i + 2], value.b);
-    m_has_splats.store(true, std::memory_order_relaxed);
+    if (m_filter.is_unit_box()) {
+        // The splat belongs to the pixel that contains it.
+        int x = static_cast<int>(std::floor(fx));
+        int y = static_cast<int>(std::floor(fy));
+        if (x < 0 || y < 0 || x >= m_width || y >= m_height) return;
+        size_t i = (static_cast<size_t>(y) * m_width + x) * 3;
+        atomic_add(m_splats[i + 0], value.r);
+        atomic_add(m_splats[i + 1], value.g);
+        atomic_add(m_splats[i + 2], value.b);
+        m_has_splats.store(true, std::memory_order_relaxed);
+        return;
+    }
+    // Pixel (x, y) estimates the integral of f(p - c) L(p) dp with c = (x + 0.5, y + 0.5): a
+    // light-tracing contribution at p (already an estimate of L(p) dp) adds f(p - c) times itself
+    // to each pixel whose support covers p. f is the same normalised density the camera samples
+    // are drawn from, so the two estimators of one pixel agree.
+    const float r = m_filter.radius();
+    const int x0 = std::max(0, static_cast<int>(std::ceil(fx - 0.5f - r)));
+    const int x1 = std::min(m_width - 1, static_cast<int>(std::floor(fx - 0.5f + r)));
+    const int y0 = std::max(0, static_cast<int>(std::ceil(fy - 0.5f - r)));
+    const int y1 = std::min(m_height - 1, static_cast<int>(std::floor(fy - 0.5f + r)));
+    bool any = false;
+    for (int y = y0; y <= y1; ++y) {
+        const float wy = m_filter.pdf(fy - (y + 0.5f));
+        if (!(wy > 0.0f)) continue;
+        for (int x = x0; x <= x1; ++x) {
+            const float w = wy * m_filter.pdf(fx - (x + 0.5f));
+            if (!(w > 0.0f)) continue;
+            size_t i = (static_cast<size_t>(y) * m_width + x) * 3;
+            atomic_add(m_splats[i + 0], static_cast<double>(value.r) * w);
+            atomic_add(m_splats[i + 1], static_cast<double>(value.g) * w);
+            atomic_add(m_splats[i + 2], static_cast<double>(value.b) * w);
+            any = true;
+        }
+    }
+    if (any) m_has_splats.store(true, std::memory_order_relaxed);
 }
 
 Image Film::resolve(double splat_spp) const {
     Image img;
     img.width = m_width;
     img.height = m_height;
-    img.rgba.resize(static_cast<size_t>(m_width) * m_height * 4);
+    const size_t n = m_pixels.size();
+    img.rgba.resize(n * 4);
+    img.variance.resize(n * 3);
     double splat_scale = splat_spp > 0.0 ? 1.0 / splat_spp : 0.0;
-    for (size_t i = 0; i < m_pixels.size(); ++i) {
+    for (size_t i = 0; i < n; ++i) {
         const Pixel& p = m_pixels[i];
         double inv = p.weight > 0.0 ? 1.0 / p.weight : 0.0;
         for (int c = 0; c < 3; ++c) {
-            double v = p.sum[c] * inv + m_splats[i * 3 + c].load(std::memory_order_relaxed) * splat_scale;
+            double mean = p.sum[c] * inv;
+            double v = mean + m_splats[i * 3 + c].load(std::memory_order_relaxed) * splat_scale;
             img.rgba[i * 4 + c] = static_cast<float>(v);
+            // The unbiased sample variance s^2 = (sum x^2 - n mean^2) / (n - 1), divided by n:
+            // the variance of the pixel's mean (camera samples only: splats are not per pixel).
+            double var = 0.0;
+            if (p.weight > 1.0) var = std::max(0.0, (p.sum_sq[c] - p.weight * mean * mean) / (p.weight - 1.0)) * inv;
+            img.variance[i * 3 + c] = static_cast<float>(var);
         }
         img.rgba[i * 4 + 3] = 1.0f;
     }
+    if (m_settings.aovs) {
+        img.depth.resize(n);
+        img.normal.resize(n * 3);
+        img.albedo.resize(n * 3);
+        for (size_t i = 0; i < n; ++i) {
+            const AovSums& a = m_aovs[i];
+            double inv = a.count > 0.0 ? 1.0 / a.count : 0.0;
+            img.depth[i] = a.count > 0.0 ? static_cast<float>(a.depth) : k_no_hit_depth;
+            for (int c = 0; c < 3; ++c) {
+                img.normal[i * 3 + c] = static_cast<float>(a.normal[c] * inv);
+                img.albedo[i * 3 + c] = static_cast<float>(a.albedo[c] * inv);
+            }
+        }
+    }
     return img;
+}
+
+namespace {
+constexpr size_t k_pixel_doubles = 7;  // sum[3], sum_sq[3], weight
+constexpr size_t k_aov_doubles = 8;    // normal[3], albedo[3], depth, count
+}  // namespace
+
+size_t Film::state_size() const {
+    size_t n = m_pixels.size();
+    return n * k_pixel_doubles + m_aovs.size() * k_aov_doubles + n * 3;
+}
+
+void Film::save_state(double* out) const {
+    for (const Pixel& p : m_pixels) {
+        for (int c = 0; c < 3; ++c) *out++ = p.sum[c];
+        for (int c = 0; c < 3; ++c) *out++ = p.sum_sq[c];
+        *out++ = p.weight;
+    }
+    for (const AovSums& a : m_aovs) {
+        for (int c = 0; c < 3; ++c) *out++ = a.normal[c];
+        for (int c = 0; c < 3; ++c) *out++ = a.albedo[c];
+        *out++ = a.depth;
+        *out++ = a.count;
+    }
+    for (size_t i = 0; i < m_pixels.size() * 3; ++i) *out++ = m_splats[i].load(std::memory_order_relaxed);
+}
+
+void Film::load_state(const double* in) {
+    for (Pixel& p : m_pixels) {
+        for (int c = 0; c < 3; ++c) p.sum[c] = *in++;
+        for (int c = 0; c < 3; ++c) p.sum_sq[c] = *in++;
+        p.weight = *in++;
+    }
+    for (AovSums& a : m_aovs) {
+        for (int c = 0; c < 3; ++c) a.normal[c] = *in++;
+        for (int c = 0; c < 3; ++c) a.albedo[c] = *in++;
+        a.depth = *in++;
+        a.count = *in++;
+    }
+    bool any = false;
+    for (size_t i = 0; i < m_pixels.size() * 3; ++i) {
+        m_splats[i].store(*in, std::memory_order_relaxed);
+        any = any || *in != 0.0;
+        ++in;
+    }
+    m_has_splats.store(any, std::memory_order_relaxed);
 }
 
 }  // namespace veach

@@ -56,8 +56,11 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
     std::atomic<bool> stop_tiles{false};
     auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };
 
-    int done = 0;
+    int done = std::clamp(control.first_sample, 0, settings.spp);
     int pass = 1;
+    // A resumed render continues the pass schedule where it stood (the sums do not depend on it:
+    // each pixel adds its samples in index order whatever the passes, so resuming is exact).
+    for (int s = 0; s < done; pass = std::min(pass * 2, k_max_pass_spp)) s += std::min(pass, k_max_pass_spp);
     double seconds_per_spp = 0;
     while (done < settings.spp && !cancelled()) {
         int n = std::min({pass, k_max_pass_spp, settings.spp - done});
@@ -65,9 +68,10 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
             double left = settings.time_limit - elapsed();
             if (left <= 0) break;
             if (seconds_per_spp > 0) {
-                int fits = static_cast<int>(left / seconds_per_spp);
-                if (fits < 1) break;
-                n = std::min(n, fits);
+                // In double: a long time limit over a fast pass does not fit in an int.
+                double fits = left / seconds_per_spp;
+                if (fits < 1.0) break;
+                if (fits < n) n = static_cast<int>(fits);
             }
         }
         double pass_start = elapsed();
@@ -90,6 +94,7 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
         done += n;
         seconds_per_spp = (elapsed() - pass_start) / n;
         pass = std::min(pass * 2, k_max_pass_spp);
+        if (control.pass_done) control.pass_done(done);
         if (control.progress) {
             double fraction = static_cast<double>(done) / settings.spp;
             double eta = seconds_per_spp * (settings.spp - done);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "core/sobol_sampler.h"
 #include "film/film.h"
 #include "integrators/render_scene.h"
 
@@ -23,12 +24,19 @@ struct RenderSettings {
     int threads = 0;         // 0 = all cores
     std::string integrator = "bdpt";  // bdpt, pt or lt
     int bdpt_s = -1, bdpt_t = -1;      // bdpt: render only strategy (s, t), unweighted
+    SamplerKind sampler = SamplerKind::Sobol;  // Owen-scrambled Sobol pairs, or independent
 };
 
 struct RenderControl {
     // Called on the calling thread after each pass: fraction done in [0, 1], seconds left.
     std::function<void(double fraction, double eta_seconds)> progress;
     const std::atomic<bool>* cancel = nullptr;  // set from anywhere to stop soon
+    // Resuming: the film already holds samples [0, first_sample) of every pixel (a checkpoint);
+    // rendering continues with sample index first_sample, so the sums equal an uninterrupted run.
+    int first_sample = 0;
+    // Called on the calling thread after each complete pass, while no tile renders (the film is
+    // consistent: every pixel holds exactly `spp_done` samples): the moment to checkpoint.
+    std::function<void(int spp_done)> pass_done;
 };
 
 struct RenderStats {

@@ -1,5 +1,7 @@
 #include "integrators/surface_hit.h"
 
+#include "materials/texture_sampling.h"
+
 namespace veach {
 
 namespace {
@@ -7,6 +9,57 @@ namespace {
 // the instance transform applied to the vertices before interpolation.
 constexpr float k_position_error_scale = 32.0f * 0x1p-24f;
 }  // namespace
+
+// The shading normal from a tangent-space normal map (glTF 2.0 section 3.9.3): the texel
+// (r, g, b) decodes to n_ts = normalize((2r - 1) scale, (2g - 1) scale, 2b - 1) in the frame
+// (tangent, bitangent = cross(normal, tangent) w, normal). `ns` and `ng` are on the same side;
+// the vertex normal before that flip is recovered from them. The result is kept at least slightly
+// above the geometric surface on ng's side: a normal map must not turn a surface inside out.
+Vec3 apply_normal_map(const RenderScene& rs, const Material& mat, const Mesh& mesh, const Instance& inst,
+                      uint32_t instance, const uint32_t* idx, float b0, float b1, float b2,
+                      const SurfaceAttributes& attr, const Vec3& ng, const Vec3& ns) {
+    const TextureRef& ref = mat.normal_texture;
+    if (static_cast<size_t>(ref.texture) >= rs.scene().textures.size()) return ns;
+    Vec3 t = mesh.tangents[idx[0]] * b0 + mesh.tangents[idx[1]] * b1 + mesh.tangents[idx[2]] * b2;
+    float w = mesh.tangent_signs[idx[0]];
+    if (!inst.object_to_world.is_identity()) {
+        t = inst.object_to_world.vector(t);
+        if (inst.object_to_world.determinant() < 0.0f) w = -w;  // a mirroring placement flips handedness
+    }
+    // The vertex normal's own orientation (before SurfaceHit flipped it to ng's side) decides the
+    // bitangent's direction.
+    Vec3 n = ns;
+    if (!mesh.normals.empty()) {
+        Vec3 nv = mesh.normals[idx[0]] * b0 + mesh.normals[idx[1]] * b1 + mesh.normals[idx[2]] * b2;
+        if (!inst.object_to_world.is_identity()) nv = rs.world_to_object(instance).normal_by_inverse(nv);
+        if (dot(nv, n) < 0.0f) n = -n;
+    }
+    t = t - n * dot(n, t);
+    float lt = length(t);
+    if (!(lt > 0.0f) || !std::isfinite(lt)) return ns;
+    t = t / lt;
+    Vec3 b = cross(n, t) * w;
+    Rgba texel = sample_texture(rs.scene().textures[static_cast<size_t>(ref.texture)],
+                                apply_uv_transform(ref.transform, attr.uv[ref.texcoord == 1 ? 1 : 0]));
+    float x = (2.0f * texel.r - 1.0f) * mat.normal_scale, y = (2.0f * texel.g - 1.0f) * mat.normal_scale;
+    float z = 2.0f * texel.b - 1.0f;
+    Vec3 m = t * x + b * y + n * z;
+    float lm = length(m);
+    if (!(lm > 0.0f) || !std::isfinite(lm)) return ns;
+    m = m / lm;
+    if (dot(m, ng) < 0.0f && dot(n, ng) < 0.0f) m = -m;  // back to ng's side, as ns was
+    // Bend toward ng, keeping the azimuth, so the normal stays above the geometric surface by a
+    // small margin (cos >= k_min_cos). Independent of the viewing direction, so the BSDF's frame
+    // stays a property of the surface point (reciprocity; see SurfaceBsdf).
+    constexpr float k_min_cos = 0.02f;
+    float c = dot(m, ng);
+    if (c < k_min_cos) {
+        Vec3 tangential = m - ng * c;
+        float l = length(tangential);
+        m = l > 0.0f ? tangential * (std::sqrt(1.0f - k_min_cos * k_min_cos) / l) + ng * k_min_cos : ng;
+    }
+    return m;
+}
 
 SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit) {
     const Scene& scene = rs.scene();
@@ -49,6 +102,8 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit) {
         s.attr.uv[set] = {b0 * uv[idx[0]].x + b1 * uv[idx[1]].x + b2 * uv[idx[2]].x,
                           b0 * uv[idx[0]].y + b1 * uv[idx[1]].y + b2 * uv[idx[2]].y};
     }
+    if (s.material->normal_texture.valid() && mesh.tangents.size() == mesh.positions.size())
+        s.ns = apply_normal_map(rs, *s.material, mesh, inst, hit.instance, idx, b0, b1, b2, s.attr, s.ng, s.ns);
     if (!mesh.colors.empty()) {
         const Rgba& c0 = mesh.colors[idx[0]];
         const Rgba& c1 = mesh.colors[idx[1]];

@@ -83,7 +83,25 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
         }
         }
     }
+    if (scene.environment.enabled) {
+        EnvironmentLight env(scene.environment);
+        // The power that crosses the scene's bounding disc: pi R^2 times radiance over the sphere.
+        power.push_back(k_pi * m_scene_radius * m_scene_radius * env.radiance_integral());
+        m_environment = static_cast<int64_t>(m_lights.size());
+        m_lights.emplace_back(std::move(env));
+    }
     m_select = Distribution1D(power);
+}
+
+Rgb LightSet::environment_radiance(const Vec3& w) const {
+    if (m_environment < 0) return Rgb(0.0f);
+    return std::get<EnvironmentLight>(m_lights[static_cast<size_t>(m_environment)]).radiance(w);
+}
+
+float LightSet::environment_pdf_w(const Vec3& w) const {
+    if (m_environment < 0) return 0.0f;
+    const auto& env = std::get<EnvironmentLight>(m_lights[static_cast<size_t>(m_environment)]);
+    return m_select.pmf(static_cast<size_t>(m_environment)) * env.pdf_w(w);
 }
 
 Rgb LightSet::triangle_radiance(const TriangleLight& tl, const Vec3& w, const Rgb& emitted) const {
@@ -163,6 +181,18 @@ bool LightSet::sample_direct(const Vec3& receiver, float u_select, float u1, flo
         out->is_delta = true;
         out->is_infinite = false;
         return true;
+    }
+    if (const auto* env = std::get_if<EnvironmentLight>(&lv)) {
+        float pdf_dir;
+        out->wi = env->sample(u1, u2, &pdf_dir);
+        if (!(pdf_dir > 0.0f)) return false;
+        out->distance = k_infinity;
+        out->point = receiver + out->wi * (4.0f * m_scene_radius + length(receiver - m_scene_center));
+        out->radiance = env->radiance(out->wi);
+        out->pdf_w = pmf * pdf_dir;
+        out->is_delta = false;
+        out->is_infinite = true;
+        return std::isfinite(out->pdf_w) && !out->radiance.is_black();
     }
     const auto& dl = std::get<DirectionalLightData>(lv);
     out->wi = -dl.direction;
@@ -247,6 +277,23 @@ bool LightSet::sample_emission(float u_select, float u1, float u2, float u3, flo
         out->delta_direction = false;
         return f > 0.0f && std::isfinite(out->pdf_dir_w);
     }
+    if (const auto* env = std::get_if<EnvironmentLight>(&lv)) {
+        // A direction toward the environment from its map density, then parallel rays along the
+        // opposite direction through a disc covering the scene's bounding sphere, outside it
+        // (pbrt-v3 section 16.1.2): pdf_pos_a = 1 / (pi R^2).
+        float pdf_dir;
+        Vec3 w = env->sample(u1, u2, &pdf_dir);
+        if (!(pdf_dir > 0.0f)) return false;
+        Frame frame(-w);
+        Vec2 d = sample_concentric_disk(u3, u4);
+        out->point = m_scene_center + (frame.s * d.x + frame.t * d.y) * m_scene_radius + w * m_scene_radius;
+        out->dir = -w;
+        out->value = env->radiance(w);
+        out->pdf_pos_a = 1.0f / (k_pi * m_scene_radius * m_scene_radius);
+        out->pdf_dir_w = pdf_dir;
+        out->delta_position = out->delta_direction = false;
+        return std::isfinite(pdf_dir) && !out->value.is_black();
+    }
     const auto& dl = std::get<DirectionalLightData>(lv);
     // Parallel rays through a disc that covers the scene's bounding sphere, placed outside it.
     Frame frame(dl.direction);
@@ -272,6 +319,9 @@ void LightSet::pdf_emission(size_t light, const Vec3& dir, float* pdf_pos_a, flo
     } else if (const auto* sl = std::get_if<SpotLightData>(&lv)) {
         *pdf_pos_a = 1.0f;
         *pdf_dir_w = dot(dir, sl->axis) > sl->cos_outer ? 1.0f / (2.0f * k_pi * (1.0f - sl->cos_outer)) : 0.0f;
+    } else if (const auto* env = std::get_if<EnvironmentLight>(&lv)) {
+        *pdf_pos_a = 1.0f / (k_pi * m_scene_radius * m_scene_radius);
+        *pdf_dir_w = env->pdf_w(-dir);  // dir is the way the particle travels, away from the sky
     } else {
         *pdf_pos_a = 1.0f / (k_pi * m_scene_radius * m_scene_radius);
         *pdf_dir_w = 1.0f;

@@ -1,5 +1,5 @@
 // Every emitter of a scene in one list, chosen by power: emissive triangles (area lights) and
-// KHR_lights_punctual point, spot and directional lights. Each light answers the queries the
+// KHR_lights_punctual point, spot and directional lights, and the environment. Each light answers the queries the
 // integrators need, with densities named by measure (pdf_w solid angle, pdf_a area).
 #pragma once
 
@@ -9,6 +9,7 @@
 
 #include "core/rgb.h"
 #include "core/sampling.h"
+#include "lights/environment_light.h"
 #include "scene/scene.h"
 
 namespace veach {
@@ -45,7 +46,7 @@ struct DirectionalLightData {
     Rgb irradiance;   // W/m^2 on a surface facing it
 };
 
-using LightVariant = std::variant<TriangleLight, PointLightData, SpotLightData, DirectionalLightData>;
+using LightVariant = std::variant<TriangleLight, PointLightData, SpotLightData, DirectionalLightData, EnvironmentLight>;
 
 // A light sampled toward a receiving point.
 struct LightSample {
@@ -63,10 +64,12 @@ struct LightSample {
 // A particle leaving a light, for light subpaths. Densities are those of this light alone;
 // multiply by selection_pmf for the choice of the light.
 struct LightEmission {
-    Vec3 point;             // on the light; for directional lights on a disc outside the scene
+    Vec3 point;             // on the light; for directional and environment lights on a disc
+                            // of the scene's bounding radius outside the scene
     Vec3 normal;            // surface normal of an area light on the emitting side, else zero
     Vec3 dir;               // unit, the direction the particle travels
-    Rgb value;              // area: radiance; point/spot: intensity x falloff; directional: irradiance
+    Rgb value;              // area, environment: radiance; point/spot: intensity x falloff;
+                            // directional: irradiance
     float pdf_pos_a = 1;    // area density of the point (1 for point and spot: a delta)
     float pdf_dir_w = 1;    // solid-angle density of dir (1 for directional: a delta)
     bool delta_position = false;
@@ -99,10 +102,16 @@ public:
     bool sample_emission(float u_select, float u1, float u2, float u3, float u4, LightEmission* out) const;
     // The densities sample_emission has for leaving light `light` at `p` along `dir` (triangle
     // lights: cosine-weighted around the emitting side; point: uniform sphere; spot: uniform
-    // cone; directional: uniform disc).
+    // cone; directional: uniform disc; environment: its map density toward -dir, uniform disc).
     void pdf_emission(size_t light, const Vec3& dir, float* pdf_pos_a, float* pdf_dir_w) const;
     bool is_delta_position(size_t light) const;
     bool is_directional(size_t light) const { return std::holds_alternative<DirectionalLightData>(m_lights[light]); }
+    // The environment: index (-1 when the scene has none), radiance arriving from unit direction
+    // w, and the solid-angle density (selection included) with which sample_direct picks w.
+    int64_t environment_index() const { return m_environment; }
+    bool is_environment(size_t light) const { return static_cast<int64_t>(light) == m_environment; }
+    Rgb environment_radiance(const Vec3& w) const;
+    float environment_pdf_w(const Vec3& w) const;
     float scene_radius() const { return m_scene_radius; }
 
     // Radiance a triangle light emits from its surface toward direction `w` (unit, away from the
@@ -114,6 +123,7 @@ private:
     std::vector<LightVariant> m_lights;
     std::vector<int64_t> m_first_emitter;  // per instance
     Distribution1D m_select;
+    int64_t m_environment = -1;
     Vec3 m_scene_center;
     float m_scene_radius = 1;
 };

@@ -5,10 +5,15 @@
 // integrand is f(wo, wi) |wi.ns|. In importance mode (particles from lights, wo the direction
 // the particle arrived from) the adjoint carries the factor |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|),
 // without which light tracing disagrees with path tracing on every smooth-shaded mesh.
+//
+// Reflection and transmission are told apart by the geometric normal: wi on wo's side of the
+// surface is a reflection, wi on the other side a transmission (only transmissive materials
+// have one). A direction whose side by the shading normal disagrees with its side by the
+// geometric normal gets nothing: that is how light would leak through a smooth-shaded surface.
 #pragma once
 
 #include "core/math.h"
-#include "materials/gltf_material.h"
+#include "materials/gltf_bsdf.h"
 
 namespace veach {
 
@@ -18,39 +23,48 @@ public:
     // ng and ns as in SurfaceHit (same side); wo the direction back along the arriving ray.
     // Every face renders two-sided, as in Cycles: the normals are flipped toward wo.
     SurfaceBsdf(const Vec3& ng, const Vec3& ns, const Vec3& wo, const ShadingInputs& in)
-        : m_bsdf(in) {
+        : m_bsdf(in, dot(wo, ng) < 0.0f ? 1.0f / in.ior : in.ior) {
+        // ng comes from the winding, so wo on its side means arriving from outside a closed
+        // transmissive mesh: the far side is the interior with relative index ior.
         float side = dot(wo, ng) < 0.0f ? -1.0f : 1.0f;
+        m_entering = side > 0.0f;
         m_ng = ng * side;
         Vec3 n = ns * side;
-        // A shading normal that faces away from the viewer would make the surface black;
-        // fall back to the geometric normal there.
-        if (dot(wo, n) <= 0.0f) n = m_ng;
+        // The frame depends on the surface point and the side only, never on wo: a frame chosen
+        // per viewing direction (e.g. falling back to ng when wo is below ns) would make the
+        // BSDF non-reciprocal, and light tracing would then disagree with path tracing at the
+        // terminator of every smooth low-poly mesh. Directions below ns see a black BSDF.
         m_frame = Frame(n);
     }
 
     const Vec3& geometric_normal() const { return m_ng; }  // on wo's side
     const Vec3& shading_normal() const { return m_frame.n; }
     bool is_black() const { return m_bsdf.is_black(); }
+    bool has_transmission() const { return m_bsdf.has_transmission(); }
+    // True when wo arrived on the front (winding) side: a transmission enters the mesh.
+    bool entering() const { return m_entering; }
 
     // f(wo, wi) |wi.ns| (times the adjoint correction in importance mode).
     Rgb eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
-        if (dot(wi, m_ng) <= 0.0f) return Rgb(0.0f);  // reflection only, on wo's side
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
-        Rgb f = m_bsdf.eval(lo, li) * std::fabs(li.z);
+        if (!consistent(wo, lo) || !consistent(wi, li)) return Rgb(0.0f);
+        Rgb f = m_bsdf.eval(lo, li, mode) * std::fabs(li.z);
         if (mode == TransportMode::Importance) f *= importance_correction(wo, wi, lo.z, li.z);
         return f;
     }
+    // Also answers reverse queries pdf_w(wi, wo) with the first direction on either side.
     float pdf_w(const Vec3& wo, const Vec3& wi) const {
-        if (dot(wi, m_ng) <= 0.0f) return 0.0f;
-        return m_bsdf.pdf_w(m_frame.to_local(wo), m_frame.to_local(wi));
+        Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
+        if (!consistent(wo, lo) || !consistent(wi, li)) return 0.0f;
+        return m_bsdf.pdf_w(lo, li);
     }
     // Samples wi. For non-delta lobes weight = eval / pdf.
     bool sample(const Vec3& wo, float u_lobe, float u1, float u2, TransportMode mode, BsdfSample* out) const {
         Vec3 lo = m_frame.to_local(wo);
         BsdfSample ls;
-        if (!m_bsdf.sample(lo, u_lobe, u1, u2, &ls)) return false;
+        if (!m_bsdf.sample(lo, u_lobe, u1, u2, &ls, mode)) return false;
         out->wi = m_frame.to_world(ls.wi);
-        if (dot(out->wi, m_ng) <= 0.0f) return false;
+        if (!consistent(out->wi, ls.wi)) return false;
         out->pdf_w = ls.pdf_w;
         out->delta = ls.delta;
         out->weight = ls.weight;
@@ -66,9 +80,16 @@ private:
         return den > 0.0f ? num / den : 0.0f;
     }
 
+    // The same side of the surface by the geometric and by the shading normal (local z).
+    bool consistent(const Vec3& w, const Vec3& local) const {
+        float g = dot(w, m_ng);
+        return (g > 0.0f && local.z > 0.0f) || (g < 0.0f && local.z < 0.0f);
+    }
+
     Vec3 m_ng;
     Frame m_frame;
     GltfBsdf m_bsdf;
+    bool m_entering = true;
 };
 
 }  // namespace veach

@@ -112,16 +112,84 @@ struct Encoded {
     }
 };
 
+// One pass of a multi-layer EXR: Blender's layer name, its channel suffixes and where its values
+// live in the Image.
+struct PassLayout {
+    const char* name;     // as --passes spells it
+    const char* layer;    // Blender's pass name
+    const char* suffixes; // one letter per channel
+    const std::vector<float> Image::*values;
+    int stride;           // floats per pixel in `values`
+};
+
+const PassLayout k_pass_layouts[] = {
+    {"combined", "Combined", "RGBA", &Image::rgba, 4},
+    {"depth", "Depth", "Z", &Image::depth, 1},
+    {"normal", "Normal", "XYZ", &Image::normal, 3},
+    {"albedo", "Albedo", "RGB", &Image::albedo, 3},
+    {"variance", "Variance", "RGB", &Image::variance, 3},
+};
+
+// The view layer Blender names its passes under by default.
+constexpr const char* k_view_layer = "ViewLayer";
+
+// A multi-layer EXR laid out as Blender writes one: "ViewLayer.<Pass>.<channel>", channels of a
+// pass together, passes in the order of k_pass_layouts whatever order they were asked in.
+void encode_multilayer(Encoded& enc, const Image& image, const std::string& path, const OutputSettings& settings) {
+    std::vector<const PassLayout*> chosen;
+    for (const PassLayout& layout : k_pass_layouts)
+        if (std::find(settings.passes.begin(), settings.passes.end(), layout.name) != settings.passes.end())
+            chosen.push_back(&layout);
+    for (const std::string& p : settings.passes)
+        if (std::none_of(std::begin(k_pass_layouts), std::end(k_pass_layouts),
+                         [&](const PassLayout& l) { return p == l.name; }))
+            fail(path, "unknown render pass '" + p + "'");
+    const size_t pixels = static_cast<size_t>(image.width) * image.height;
+    std::vector<std::string> names;
+    std::vector<OIIO::TypeDesc> formats;
+    const OIIO::TypeDesc colour_type = settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+    for (const PassLayout* l : chosen) {
+        if ((image.*(l->values)).size() != pixels * l->stride)
+            fail(path, std::string("the render has no ") + l->name + " pass (the film did not record it)");
+        for (const char* c = l->suffixes; *c; ++c) {
+            names.push_back(std::string(k_view_layer) + "." + l->layer + "." + *c);
+            // Half floats keep 3 significant digits: fine for colour, not for depth, which
+            // stays float as Blender writes it.
+            formats.push_back(l->layer == std::string("Depth") ? OIIO::TypeDesc::FLOAT : colour_type);
+        }
+    }
+    const int channels = static_cast<int>(names.size());
+    enc.spec = OIIO::ImageSpec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT);
+    enc.spec.channelnames = names;
+    enc.spec.channelformats = formats;
+    enc.spec.alpha_channel = chosen.front() == &k_pass_layouts[0] ? 3 : -1;
+    enc.spec.z_channel = -1;
+    enc.type = OIIO::TypeDesc::FLOAT;
+    enc.f32.resize(pixels * channels);
+    for (size_t i = 0; i < pixels; ++i) {
+        float* out = &enc.f32[i * channels];
+        for (const PassLayout* l : chosen)
+            for (int c = 0; c < l->stride; ++c) *out++ = (image.*(l->values))[i * l->stride + c];
+    }
+}
+
 Encoded encode(const Image& image, const std::string& path, const FormatInfo& info,
                const OutputSettings& settings) {
     Encoded enc;
     const int w = image.width, h = image.height;
     switch (info.format) {
     case Format::exr:
-        enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-        enc.spec.attribute("compression", "zip");
-        enc.type = OIIO::TypeDesc::FLOAT;
-        enc.f32 = image.rgba;
+        if (!is_exr_codec(settings.exr_codec))
+            fail(path, "unknown EXR codec '" + settings.exr_codec +
+                           "' (known: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
+        if (settings.passes.empty()) {
+            enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+            enc.type = OIIO::TypeDesc::FLOAT;
+            enc.f32 = image.rgba;
+        } else {
+            encode_multilayer(enc, image, path, settings);
+        }
+        enc.spec.attribute("compression", settings.exr_codec);
         return enc;
     case Format::hdr:
         // RGBE has no alpha channel.
@@ -184,6 +252,32 @@ Encoded encode(const Image& image, const std::string& path, const FormatInfo& in
     return enc;
 }
 
+// OpenImageIO's Radiance writer keeps no attributes, but a Radiance header is lines of
+// "NAME=value" up to a blank line, and readers skip the names they do not know: the metadata
+// goes there, after the "#?RADIANCE" line, in the temp file before it is renamed.
+bool add_radiance_header_lines(const fs::path& file, const std::map<std::string, std::string>& metadata) {
+    std::FILE* f = std::fopen(file.c_str(), "rb");
+    if (!f) return false;
+    std::string bytes;
+    char buffer[1 << 16];
+    for (size_t n; (n = std::fread(buffer, 1, sizeof(buffer), f)) > 0;) bytes.append(buffer, n);
+    std::fclose(f);
+    const size_t first_line = bytes.find('\n');
+    if (bytes.rfind("#?", 0) != 0 || first_line == std::string::npos) return false;
+    std::string lines;
+    for (const auto& [key, value] : metadata) {
+        std::string line = key + "=" + value;
+        std::replace(line.begin(), line.end(), '\n', ' ');
+        std::replace(line.begin(), line.end(), '\r', ' ');
+        lines += line + "\n";
+    }
+    bytes.insert(first_line + 1, lines);
+    f = std::fopen(file.c_str(), "wb");
+    if (!f) return false;
+    bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    return (std::fclose(f) == 0) && ok;
+}
+
 // Removes our temp file; never a folder that merely happens to have its name.
 void remove_quietly(const fs::path& p) {
     std::error_code ec;
@@ -191,6 +285,42 @@ void remove_quietly(const fs::path& p) {
 }
 
 }  // namespace
+
+bool is_known_image_format(const std::string& path) {
+    FormatInfo info;
+    return format_of(path, info);
+}
+
+bool is_exr_codec(const std::string& codec) {
+    const size_t colon = codec.find(':');
+    const std::string name = codec.substr(0, colon);
+    static const char* const plain[] = {"none", "rle", "piz", "pxr24", "b44", "b44a"};
+    static const char* const levelled[] = {"zip", "zips", "dwaa", "dwab"};
+    if (colon == std::string::npos) {
+        for (const char* n : plain)
+            if (name == n) return true;
+    }
+    for (const char* n : levelled) {
+        if (name != n) continue;
+        if (colon == std::string::npos) return true;
+        const std::string level = codec.substr(colon + 1);
+        if (level.empty() || level.size() > 4 || !std::all_of(level.begin(), level.end(), ::isdigit)) return false;
+        const int v = std::stoi(level);
+        return name[0] == 'z' ? (v >= 1 && v <= 9) : (v >= 1 && v <= 1000);
+    }
+    return false;
+}
+
+const std::vector<std::string>& known_passes() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n;
+        for (const PassLayout& l : k_pass_layouts) n.push_back(l.name);
+        return n;
+    }();
+    return names;
+}
+
+bool pass_needs_aovs(const std::string& pass) { return pass == "depth" || pass == "normal" || pass == "albedo"; }
 
 bool is_scene_linear_format(const std::string& path) {
     FormatInfo info;
@@ -219,6 +349,15 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
     // here, so a bad setting never creates a temp file.
     Encoded enc = encode(image, path, info, settings);
     for (const auto& [key, value] : settings.metadata) enc.spec.attribute(key, value);
+    if ((info.format == Format::jpeg || info.format == Format::tiff) && !settings.metadata.empty() &&
+        !settings.metadata.count("ImageDescription")) {
+        // JPEG (EXIF) and TIFF only keep fixed tags, so our own keys would be dropped: they travel
+        // together in the description, "key=value; key=value", which every viewer shows.
+        std::string description;
+        for (const auto& [key, value] : settings.metadata)
+            description += (description.empty() ? "" : "; ") + key + "=" + value;
+        enc.spec.attribute("ImageDescription", description);
+    }
 
     const fs::path temp = temp_path_for(target);
     auto out = OIIO::ImageOutput::create(info.oiio_name);
@@ -237,6 +376,10 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
         err = out->geterror();
     }
     out.reset();
+    if (ok && info.format == Format::hdr && !settings.metadata.empty() && !add_radiance_header_lines(temp, settings.metadata)) {
+        ok = false;
+        err = "cannot add the metadata to the Radiance header";
+    }
     if (!ok) {
         remove_quietly(temp);
         fail(path, "write failed: " + (err.empty() ? std::string("unknown error") : err));

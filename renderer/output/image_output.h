@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "film/film.h"
 
@@ -28,6 +29,12 @@ struct DisplaySettings {
 struct OutputSettings {
     DisplaySettings display;
     bool half = false;             // EXR: half floats
+    std::string exr_codec = "zip";  // EXR compression: see is_exr_codec()
+    // EXR render passes, in Blender's names: "combined", "depth", "normal", "albedo",
+    // "variance". Empty: a plain RGBA file. Otherwise a multi-layer EXR with channels
+    // ViewLayer.Combined.R/G/B/A, ViewLayer.Depth.Z, ViewLayer.Normal.X/Y/Z,
+    // ViewLayer.Albedo.R/G/B, ViewLayer.Variance.R/G/B. Other formats write Combined only.
+    std::vector<std::string> passes;
     int quality = 95;              // JPEG
     int bits = 8;                  // PNG/TIFF: 8 or 16
     std::map<std::string, std::string> metadata;  // written as string attributes
@@ -35,6 +42,16 @@ struct OutputSettings {
 
 // True for formats written scene-linear (no display transform).
 bool is_scene_linear_format(const std::string& path);
+// True for formats this driver writes (by extension).
+bool is_known_image_format(const std::string& path);
+
+// OpenEXR compressions: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab; zip, zips,
+// dwaa and dwab may carry a level ("zip:9", "dwaa:45").
+bool is_exr_codec(const std::string& codec);
+// The pass names write_image() knows, in file order.
+const std::vector<std::string>& known_passes();
+// True when a pass needs the film's first-hit AOVs (depth, normal, albedo).
+bool pass_needs_aovs(const std::string& pass);
 
 // Throws OutputError with a one-line message naming the file on failure; never leaves a partial
 // file under `path`.

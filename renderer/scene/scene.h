@@ -63,6 +63,26 @@ struct Material {
     Rgb specular_color{1, 1, 1};            // KHR_materials_specular specularColorFactor
     TextureRef specular_texture;            // factor in A
     TextureRef specular_color_texture;      // colour in RGB (sRGB)
+    float transmission = 0;                 // KHR_materials_transmission transmissionFactor
+    TextureRef transmission_texture;        // factor in R
+    // KHR_materials_volume: Beer-Lambert absorption inside a transmissive closed mesh,
+    // sigma_a = -ln(attenuation_color) / attenuation_distance (thicknessFactor is a raster hint).
+    Rgb attenuation_color{1, 1, 1};
+    float attenuation_distance = 0;         // 0 = infinite: nothing absorbed
+    // KHR_materials_clearcoat: a GGX layer (F0 0.04, ior 1.5) over the material.
+    float clearcoat = 0, clearcoat_roughness = 0;
+    TextureRef clearcoat_texture;           // factor in R
+    TextureRef clearcoat_roughness_texture; // roughness in G
+    TextureRef clearcoat_normal_texture;    // stored for normal mapping (not applied by the BSDF)
+    float clearcoat_normal_scale = 1;
+    // KHR_materials_sheen: Charlie sheen over the material.
+    Rgb sheen_color{0, 0, 0};
+    float sheen_roughness = 0;
+    TextureRef sheen_color_texture;         // colour in RGB (sRGB)
+    TextureRef sheen_roughness_texture;     // roughness in A
+    // KHR_materials_unlit: converted by the importer into emission of the base colour and a
+    // black BSDF (what "shown as is" means in a path tracer).
+    bool unlit = false;
     TextureRef normal_texture;
     float normal_scale = 1;
     bool double_sided = false;
@@ -70,6 +90,12 @@ struct Material {
     float alpha_cutoff = 0.5f;
 
     bool is_emissive() const { return !emission.is_black(); }
+    // sigma_a of KHR_materials_volume per unit length; zero when nothing is absorbed.
+    Rgb absorption() const {
+        if (!(attenuation_distance > 0.0f)) return Rgb(0.0f);
+        auto one = [this](float c) { return c > 0.0f ? std::max(0.0f, -std::log(std::min(c, 1.0f))) / attenuation_distance : 1e30f; };
+        return {one(attenuation_color.r), one(attenuation_color.g), one(attenuation_color.b)};
+    }
 };
 
 // One glTF primitive: triangles with one material. Attributes are either empty or one per vertex.
@@ -78,6 +104,10 @@ struct Mesh {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;      // empty: flat shading from the geometric normal
     std::vector<Vec2> uv0, uv1;
+    // Tangent frames for normal maps (glTF TANGENT, or generated): only filled when the mesh's
+    // material has a normal texture. Bitangent = cross(normal, tangent) * tangent_signs.
+    std::vector<Vec3> tangents;
+    std::vector<float> tangent_signs;  // +1 or -1 per vertex
     std::vector<Rgba> colors;       // COLOR_0
     std::vector<uint32_t> indices;  // three per triangle
     int32_t material = -1;          // -1: the glTF default material
@@ -124,6 +154,38 @@ struct Camera {
     Transform camera_to_world;      // looks down -Z, +Y up (glTF convention)
 };
 
+// The world around the scene: glTF carries none, so a front end fills it (--env, --env-color).
+// Radiance arriving from direction d is strength x (the map at d, or colour when there is no
+// map). The map is equirectangular in Blender's convention (Cycles' direction_to_equirectangular
+// with Blender's +Z up = glTF's +Y): row 0 looks up, the image centre looks along +X.
+struct Environment {
+    bool enabled = false;
+    Rgb color{1, 1, 1};          // uniform radiance when there is no map
+    int width = 0, height = 0;   // map size, 0 = no map
+    std::vector<float> texels;   // linear RGB, width * height * 3, row 0 at the top (+Y)
+    float strength = 1;
+    float rotation = 0;          // radians about +Y, as a Mapping node's Z rotation in Blender
+    std::string source;          // the map's file, for messages
+    bool has_map() const { return width > 0 && height > 0; }
+};
+
+// What scene_repair (scene/scene_repair.h) changed after import, for the stats and one warning.
+struct RepairCounts {
+    uint64_t nonfinite_triangles = 0;   // a corner's position is NaN or infinite: dropped
+    uint64_t invalid_indices = 0;       // an index past the vertex array: triangle dropped
+    uint64_t degenerate_triangles = 0;  // zero area, collinear or repeated corners: dropped
+    uint64_t duplicate_triangles = 0;   // the same three corners as another face: dropped
+    uint64_t normals_replaced = 0;      // NaN, infinite or zero-length: the face normals' average
+    uint64_t normals_normalized = 0;    // finite but not unit length
+    uint64_t uvs_replaced = 0;          // NaN or infinite texture coordinates: set to 0
+    uint64_t colors_replaced = 0;       // NaN or infinite vertex colours: set to 1
+    uint64_t lights_dropped = 0;        // a punctual light with a NaN or infinite parameter
+    uint64_t total() const {
+        return nonfinite_triangles + invalid_indices + degenerate_triangles + duplicate_triangles + normals_replaced +
+               normals_normalized + uvs_replaced + colors_replaced + lights_dropped;
+    }
+};
+
 struct Scene {
     std::string source_path;
     std::vector<Mesh> meshes;
@@ -132,8 +194,10 @@ struct Scene {
     std::vector<Texture> textures;
     std::vector<PunctualLight> lights;
     std::vector<Camera> cameras;
+    Environment environment;
     std::vector<std::string> warnings;  // each said once, for the front end to print
     SceneFeatures features;
+    RepairCounts repaired;
 
     // World-space bounds of all instanced geometry.
     Bounds3 bounds() const;

@@ -469,6 +469,49 @@ TEST(GltfImporter, SpecularExtension) {
     EXPECT_FALSE(s.textures.at(m.specular_texture.texture).srgb);
 }
 
+// KHR_materials_transmission, _volume, _clearcoat and _sheen as their specs name the fields;
+// sheen colour is sRGB, clearcoat and roughness textures data.
+TEST(GltfImporter, LayerAndTransmissionExtensions) {
+    Scene s = load(material_scene(
+        {{"extensions",
+          {{"KHR_materials_transmission", {{"transmissionFactor", 0.8}}},
+           {"KHR_materials_volume", {{"thicknessFactor", 0.1}, {"attenuationDistance", 2.0},
+                                     {"attenuationColor", {0.5, 0.25, 1.0}}}},
+           {"KHR_materials_clearcoat",
+            {{"clearcoatFactor", 0.6}, {"clearcoatRoughnessFactor", 0.2},
+             {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}}},
+           {"KHR_materials_sheen",
+            {{"sheenColorFactor", {0.9, 0.8, 0.7}}, {"sheenRoughnessFactor", 0.4},
+             {"sheenColorTexture", {{"index", 0}}}}}}}}));
+    const Material& m = s.materials.at(0);
+    EXPECT_FLOAT_EQ(m.transmission, 0.8f);
+    EXPECT_FLOAT_EQ(m.clearcoat, 0.6f);
+    EXPECT_FLOAT_EQ(m.clearcoat_roughness, 0.2f);
+    ASSERT_TRUE(m.clearcoat_normal_texture.valid());
+    EXPECT_FLOAT_EQ(m.clearcoat_normal_scale, 0.5f);
+    EXPECT_FLOAT_EQ(m.sheen_color.g, 0.8f);
+    EXPECT_FLOAT_EQ(m.sheen_roughness, 0.4f);
+    EXPECT_TRUE(s.textures.at(m.sheen_color_texture.texture).srgb);
+    // Beer-Lambert: white light crossing attenuationDistance comes out as attenuationColor.
+    Rgb sigma = m.absorption();
+    EXPECT_NEAR(std::exp(-sigma.r * 2.0f), 0.5f, 1e-6f);
+    EXPECT_NEAR(std::exp(-sigma.g * 2.0f), 0.25f, 1e-6f);
+    EXPECT_EQ(sigma.b, 0.0f);
+    EXPECT_TRUE(s.features.transmission && s.features.volume && s.features.clearcoat && s.features.sheen);
+}
+
+// KHR_materials_unlit: the base colour is shown as is, i.e. emitted, and nothing is scattered.
+TEST(GltfImporter, UnlitBecomesEmissionOfBaseColour) {
+    Scene s = load(material_scene({{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}}},
+                                   {"extensions", {{"KHR_materials_unlit", json::object()}}}}));
+    const Material& m = s.materials.at(0);
+    EXPECT_TRUE(m.unlit);
+    EXPECT_FLOAT_EQ(m.emission.g, 0.4f);
+    EXPECT_TRUE(m.base_color.is_black());
+    EXPECT_EQ(m.metallic, 0.0f);
+    EXPECT_EQ(m.specular, 0.0f);
+}
+
 TEST(GltfImporter, TextureTransformExtension) {
     json transform = {{"offset", {0.5, 0.25}}, {"rotation", 0.3}, {"scale", {2, 3}}, {"texCoord", 1}};
     Scene s = load(material_scene(

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -254,14 +255,16 @@ std::vector<float> read_pixels(const fs::path& path, int& width, int& height, in
 // with write_image (display sRGB, `view` + `look`) under the config at `config`, and requires
 // every 8-bit channel to agree within one code value.
 void expect_matches_oiiotool(const fs::path& dir, const fs::path& config, const std::string& oiiotool_view,
-                             const std::string& view, const std::string& look) {
+                             const std::string& view, const std::string& look, const std::string& oiiotool_looks = "") {
     ScopedOcio env(config.string());
     const Image image = test_gradient();
     OutputSettings exr_settings;
     write_image(image, (dir / "in.exr").string(), exr_settings);
 
     const std::string command = "oiiotool --colorconfig " + quoted(config) + " " + quoted(dir / "in.exr") +
-                                " --ociodisplay:from=scene_linear sRGB " + oiiotool_view + " -d uint8 -o " +
+                                " --ociodisplay:from=scene_linear" +
+                                (oiiotool_looks.empty() ? std::string() : ":looks='" + oiiotool_looks + "'") +
+                                " sRGB '" + oiiotool_view + "' -d uint8 -o " +
                                 quoted(dir / "ref.png") + " > " + quoted(dir / "oiiotool.log") + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
 
@@ -380,6 +383,83 @@ TEST(DisplayTransform, LutViewAndLookMatchOiiotool) {
     // with the look built in; ours applies the look as an override on the plain view. Both
     // must put the CDL in linear before the LUT.
     expect_matches_oiiotool(dir.path(), dir.path() / "studio.ocio", "FilmWarm", "Film", "Warm");
+}
+
+// Blender's own config (Debian's blender-data, 100 MB installed, so not a dependency: the test
+// runs where it is present): it lists Blender's views and looks, and its LUT views give what
+// oiiotool gives with the same config, within one 8-bit step.
+const char* const k_blender_config = "/usr/share/blender/datafiles/colormanagement/config.ocio";
+
+TEST(DisplayTransform, BlenderConfigViewsMatchOiiotool) {
+    if (!fs::exists(k_blender_config)) GTEST_SKIP() << "blender-data not installed (" << k_blender_config << ")";
+    if (!have_oiiotool()) GTEST_SKIP() << "oiiotool not installed";
+    {
+        ScopedOcio env(k_blender_config);
+        ColorConfigInfo info = describe_color_config();
+        ASSERT_FALSE(info.views.empty());
+        EXPECT_EQ(info.views[0].first, "sRGB");
+        for (const char* view : {"Standard", "Filmic", "Filmic Log", "False Color", "Raw"})
+            EXPECT_NE(std::find(info.views[0].second.begin(), info.views[0].second.end(), view),
+                      info.views[0].second.end())
+                << view;
+        EXPECT_NE(std::find(info.looks.begin(), info.looks.end(), "Medium High Contrast"), info.looks.end());
+    }
+    // The 3D-LUT views (Standard and Raw are the built-in config's curves, checked above; all
+    // five against Blender's own images below).
+    for (const char* view : {"Filmic", "False Color"}) {
+        SCOPED_TRACE(view);
+        TempDir dir("blender_view_" + std::to_string(std::strlen(view)) + view[1]);
+        expect_matches_oiiotool(dir.path(), k_blender_config, view, view, "");
+    }
+}
+
+// What a Blender user sees: PNGs that Blender 3.4 itself saved from the test gradient through its
+// colour management (tests/output/data/blender_views/make_references.py), for every view, two
+// looks, and exposure with gamma. Looks are checked against Blender rather than oiiotool:
+// `oiiotool --ociodisplay:looks=` routes the look through scene-linear and lands up to 8 steps
+// away from Blender, whereas Blender (like Veach) applies it in the look's process space and
+// hands that to the view.
+TEST(DisplayTransform, BlenderConfigMatchesBlendersOwnImages) {
+    if (!fs::exists(k_blender_config)) GTEST_SKIP() << "blender-data not installed (" << k_blender_config << ")";
+    const fs::path data = fs::path(VEACH_OUTPUT_DATA_DIR) / "blender_views";
+    struct Case {
+        const char* stem;
+        DisplaySettings settings;
+    };
+    const Case cases[] = {
+        {"standard", {"sRGB", "Standard", "", 0, 1}},
+        {"filmic", {"sRGB", "Filmic", "", 0, 1}},
+        {"filmic_log", {"sRGB", "Filmic Log", "", 0, 1}},
+        {"false_color", {"sRGB", "False Color", "", 0, 1}},
+        {"raw", {"sRGB", "Raw", "", 0, 1}},
+        {"filmic_medium_high_contrast", {"sRGB", "Filmic", "Medium High Contrast", 0, 1}},
+        {"filmic_very_low_contrast", {"sRGB", "Filmic", "Very Low Contrast", 0, 1}},
+        {"filmic_exposure1_gamma1.2", {"sRGB", "Filmic", "", 1.0f, 1.2f}},
+    };
+    ScopedOcio env(k_blender_config);
+    int gw = 0, gh = 0, gc = 0;
+    std::vector<float> gradient = read_pixels(data / "gradient.exr", gw, gh, gc);
+    ASSERT_EQ(gc, 4);
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.stem);
+        Image img;
+        img.width = gw;
+        img.height = gh;
+        img.rgba = gradient;
+        img = displayed(img, c.settings);
+        int rw = 0, rh = 0, rc = 0;
+        std::vector<float> ref = read_pixels(data / (std::string(c.stem) + ".png"), rw, rh, rc);
+        ASSERT_EQ(rw, gw);
+        ASSERT_EQ(rh, gh);
+        int worst = 0;
+        for (int i = 0; i < rw * rh; ++i)
+            for (int ch = 0; ch < 3; ++ch) {
+                const long r = std::lround(ref[static_cast<size_t>(i) * rc + ch] * 255);
+                const long o = std::lround(img.rgba[static_cast<size_t>(i) * 4 + ch] * 255);
+                worst = std::max(worst, static_cast<int>(std::abs(r - o)));
+            }
+        EXPECT_LE(worst, 1) << "largest 8-bit difference from Blender's own image";
+    }
 }
 
 TEST(DisplayTransform, OcioVariableSelectsTheConfig) {

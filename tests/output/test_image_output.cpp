@@ -347,6 +347,66 @@ TEST_F(ImageOutputTest, MetadataIsWrittenAsStrings) {
     }
 }
 
+// Multi-layer EXR: channels named as Blender names them, each pass's values exact in float,
+// Depth kept in float under --half, and a pass the film did not record refused before writing.
+TEST_F(ImageOutputTest, MultiLayerExrUsesBlenderPassNames) {
+    Image img = smooth_image(6, 5);
+    const size_t n = 30;
+    img.depth.resize(n);
+    img.normal.resize(n * 3);
+    img.albedo.resize(n * 3);
+    img.variance.resize(n * 3);
+    for (size_t i = 0; i < n; ++i) {
+        img.depth[i] = 1.0f + 1e-3f * i;  // needs float: half would round it
+        for (int c = 0; c < 3; ++c) {
+            img.normal[i * 3 + c] = c == 2 ? 1.0f : 0.0f;
+            img.albedo[i * 3 + c] = 0.25f * c;
+            img.variance[i * 3 + c] = 1e-3f * (i + c);
+        }
+    }
+    OutputSettings settings;
+    settings.half = true;
+    settings.exr_codec = "zips";
+    settings.passes = {"variance", "combined", "depth", "normal", "albedo"};
+    write_image(img, file("layers.exr"), settings);
+    ReadBack r = read_back(file("layers.exr"));
+    std::vector<std::string> names(r.spec.channelnames.begin(), r.spec.channelnames.end());
+    std::vector<std::string> want = {"ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B",
+                                     "ViewLayer.Combined.A", "ViewLayer.Depth.Z",    "ViewLayer.Normal.X",
+                                     "ViewLayer.Normal.Y",   "ViewLayer.Normal.Z",   "ViewLayer.Albedo.R",
+                                     "ViewLayer.Albedo.G",   "ViewLayer.Albedo.B",   "ViewLayer.Variance.R",
+                                     "ViewLayer.Variance.G", "ViewLayer.Variance.B"};
+    std::vector<std::string> sorted_names = names, sorted_want = want;
+    std::sort(sorted_names.begin(), sorted_names.end());
+    std::sort(sorted_want.begin(), sorted_want.end());
+    ASSERT_EQ(sorted_names, sorted_want);
+    EXPECT_EQ(r.spec.get_string_attribute("compression"), "zips");
+    auto channel = [&](const std::string& name) {
+        return static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
+    };
+    const int nc = r.spec.nchannels;
+    EXPECT_EQ(r.spec.channelformat(channel("ViewLayer.Depth.Z")), OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(r.spec.channelformat(channel("ViewLayer.Combined.R")), OIIO::TypeDesc::HALF);
+    for (size_t i = 0; i < n; ++i) {
+        EXPECT_EQ(r.pixels[i * nc + channel("ViewLayer.Depth.Z")], img.depth[i]);
+        EXPECT_EQ(r.pixels[i * nc + channel("ViewLayer.Normal.Z")], 1.0f);
+        EXPECT_EQ(r.pixels[i * nc + channel("ViewLayer.Albedo.B")], 0.5f);
+        EXPECT_NEAR(r.pixels[i * nc + channel("ViewLayer.Combined.G")], img.rgba[i * 4 + 1],
+                    1e-3f * std::max(1.0f, img.rgba[i * 4 + 1]));
+        EXPECT_NEAR(r.pixels[i * nc + channel("ViewLayer.Variance.R")], img.variance[i * 3], 1e-3f * img.variance[i * 3] + 1e-7f);
+    }
+
+    Image plain = smooth_image(6, 5);
+    settings.passes = {"combined", "normal"};
+    EXPECT_THROW(write_image(plain, file("no_normal.exr"), settings), OutputError);
+    settings.passes = {};
+    settings.exr_codec = "lzma";
+    EXPECT_THROW(write_image(plain, file("bad_codec.exr"), settings), OutputError);
+    EXPECT_EQ(listing(), std::vector<std::string>({"layers.exr"}));
+    EXPECT_TRUE(is_exr_codec("dwaa:45") && is_exr_codec("zip:9") && is_exr_codec("none"));
+    EXPECT_FALSE(is_exr_codec("zip:0") || is_exr_codec("piz:3") || is_exr_codec(""));
+}
+
 TEST_F(ImageOutputTest, MissingFolderThrowsAndCreatesNothing) {
     const std::string path = file("no/such/folder/out.png");
     try {

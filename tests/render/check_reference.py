@@ -17,6 +17,13 @@ ap.add_argument("--mean-tol", type=float, default=0.02)
 ap.add_argument("--block-tol", type=float, default=0.05)
 ap.add_argument("--extra", default="", help="more veach arguments, space separated")
 a = ap.parse_args()
+# Sanitizer builds (make test-sanitize) divide sample counts and widen tolerances by sqrt of it.
+divisor = max(1, int(os.environ.get("VEACH_TEST_SPP_DIVISOR", "1") or 1))
+a.spp = max(1, a.spp // divisor)
+a.mean_tol *= divisor ** 0.5
+# At a fraction of the samples, 16x16 blocks over caustics are dominated by fireflies, which do
+# not shrink like sqrt(spp): the sanitizer run checks the means and finiteness only.
+check_blocks = divisor == 1
 
 scene_dir = os.path.join(a.shared, "scenes", a.scene)
 if not os.path.isdir(scene_dir):
@@ -42,7 +49,7 @@ ok = True
 for c, m in zip("RGB", res["mean"]):
     if abs(m - 1.0) > a.mean_tol:
         print("FAIL: channel %s mean ratio %.4f is off by more than %.3f" % (c, m, a.mean_tol)); ok = False
-if res["blocks"] > a.block_tol:
+if check_blocks and res["blocks"] > a.block_tol:
     print("FAIL: worst 16x16 block differs by %.4f > %.3f" % (res["blocks"], a.block_tol)); ok = False
 if res["nonfinite"] or stats["nonfinite_samples"]:
     print("FAIL: non-finite values"); ok = False

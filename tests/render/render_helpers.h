@@ -1,16 +1,34 @@
 // Rendering a scene in a test and summarising the image statistically.
 #pragma once
 
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
 #include <vector>
 
 #include "api/render_job.h"
 
 namespace veach::test {
 
+// Sanitizer builds make rays about ten times dearer: VEACH_TEST_SPP_DIVISOR=N (make
+// test-sanitize sets it) divides the statistical tests' sample counts, and their tolerances widen
+// by sqrt(N), the growth of the noise.
+inline int spp_divisor() {
+    const char* e = std::getenv("VEACH_TEST_SPP_DIVISOR");
+    int d = e ? std::atoi(e) : 1;
+    return d > 1 ? d : 1;
+}
+inline int spp(int n) { return std::max(1, n / spp_divisor()); }
+inline double tol(double t) { return t * std::sqrt(static_cast<double>(spp_divisor())); }
+
 inline Image render(const Scene& scene, int size, int spp, const std::string& integrator = "pt", int max_depth = 64,
-                    int threads = 0, uint64_t seed = 1, RenderStats* stats = nullptr) {
+                    int threads = 0, uint64_t seed = 1, RenderStats* stats = nullptr, int bdpt_s = -1, int bdpt_t = -1,
+                    int height = 0) {
     RenderJobOptions o;
-    o.width = o.height = size;
+    o.width = size;
+    o.height = height > 0 ? height : size;
+    o.render.bdpt_s = bdpt_s;
+    o.render.bdpt_t = bdpt_t;
     o.render.spp = spp;
     o.render.integrator = integrator;
     o.render.max_depth = max_depth;
@@ -42,6 +60,33 @@ inline std::vector<double> block_means(const Image& img, int block) {
             out.push_back(s / (block * block));
         }
     return out;
+}
+
+}  // namespace veach::test
+
+namespace veach::test {
+
+// How far image `x` is from image `r`, in the measures of ../shared/tools/compare.py: the
+// per-channel mean ratio, and the worst relative difference of block means among blocks brighter
+// than 5% of the mean block.
+struct ImageComparison {
+    double mean_ratio[3] = {1, 1, 1};
+    double worst_block = 0;
+};
+
+inline ImageComparison compare_images(const Image& x, const Image& r, int block) {
+    ImageComparison c;
+    for (int ch = 0; ch < 3; ++ch) {
+        double mr = channel_mean(r, ch);
+        c.mean_ratio[ch] = mr > 0 ? channel_mean(x, ch) / mr : (channel_mean(x, ch) == 0 ? 1.0 : 1e9);
+    }
+    std::vector<double> bx = block_means(x, block), br = block_means(r, block);
+    double mean = 0;
+    for (double b : br) mean += b;
+    mean /= br.empty() ? 1 : br.size();
+    for (size_t i = 0; i < br.size(); ++i)
+        if (br[i] > 0.05 * mean) c.worst_block = std::max(c.worst_block, std::fabs(bx[i] - br[i]) / br[i]);
+    return c;
 }
 
 }  // namespace veach::test

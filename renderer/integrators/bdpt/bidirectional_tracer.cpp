@@ -2,7 +2,8 @@
 
 #include <vector>
 
-#include "core/rng.h"
+#include "core/sobol_sampler.h"
+#include "integrators/first_hit_aovs.h"
 #include "integrators/bdpt/path_vertex.h"
 #include "integrators/surface_hit.h"
 
@@ -38,13 +39,13 @@ public:
           m_stats(stats) {}
 
     // Traces one pixel sample; returns the camera-side estimate and splats the light-tracing one.
-    Rgb sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film);
+    Rgb sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film);
 
 private:
-    int trace_camera_subpath(Workspace& ws, float fx, float fy, Rng& rng);
-    int trace_light_subpath(Workspace& ws, Rng& rng);
+    int trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng);
+    int trace_light_subpath(Workspace& ws, Sampler& rng);
     int random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
-                    TransportMode mode, int max_vertices, Rng& rng);
+                    TransportMode mode, int max_vertices, Sampler& rng);
     bool visible(const PathVertex& a, const PathVertex& b);
     Rgb emitted_toward(const PathVertex& v, const Vec3& w) const;
     float light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const;
@@ -88,11 +89,27 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
 }
 
 int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
-                        TransportMode mode, int max_vertices, Rng& rng) {
+                        TransportMode mode, int max_vertices, Sampler& rng) {
     while (count < max_vertices) {
         RayHit rh;
         ++m_stats.rays;
-        if (!m_rs.accel().intersect(origin, dir, k_infinity, &rh)) break;
+        if (!m_rs.accel().intersect(origin, dir, k_infinity, &rh)) {
+            if (mode == TransportMode::Radiance && m_lights.environment_index() >= 0) {
+                // A camera subpath that escapes ends on the environment: a light vertex at
+                // infinity, where directions are the area measure (pdf_fwd per solid angle).
+                PathVertex& v = path[count];
+                v = PathVertex();
+                v.kind = PathVertex::Kind::Light;
+                v.infinite = true;
+                v.light = m_lights.environment_index();
+                v.light_dir = -dir;
+                v.p = origin + dir * (4.0f * m_lights.scene_radius() + length(origin));
+                v.beta = beta;
+                v.pdf_fwd = pdf_w;
+                ++count;
+            }
+            break;
+        }
         PathVertex& prev = path[count - 1];
         PathVertex& v = path[count];
         fill_surface_vertex(m_rs, rh, dir, &v);
@@ -111,7 +128,9 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
 
         Vec3 wo = -dir;
         BsdfSample bs;
-        if (v.bsdf.is_black() || !v.bsdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), mode, &bs))
+        float u_lobe = rng.next_1d();
+        Vec2 u_dir = rng.next_2d();
+        if (v.bsdf.is_black() || !v.bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, mode, &bs))
             break;
         Vec3 wi = bs.wi;
         float pdf_fwd_w = bs.pdf_w;
@@ -137,7 +156,7 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
     return count;
 }
 
-int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Rng& rng) {
+int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng) {
     PathVertex& c = ws.camera[0];
     c = PathVertex();
     c.kind = PathVertex::Kind::Camera;
@@ -152,10 +171,11 @@ int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Rng& rng) {
     return random_walk(ws.camera, 1, origin, dir, Rgb(1.0f), pdf_w, TransportMode::Radiance, max_vertices, rng);
 }
 
-int Tracer::trace_light_subpath(Workspace& ws, Rng& rng) {
+int Tracer::trace_light_subpath(Workspace& ws, Sampler& rng) {
     LightEmission e;
-    float u_select = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float(), u3 = rng.next_float(),
-          u4 = rng.next_float();
+    float u_select = rng.next_1d();
+    Vec2 u_pos = rng.next_2d(), u_dir = rng.next_2d();
+    float u1 = u_pos.x, u2 = u_pos.y, u3 = u_dir.x, u4 = u_dir.y;
     if (m_lights.empty() || !m_lights.sample_emission(u_select, u1, u2, u3, u4, &e)) return 0;
     float pmf = m_lights.selection_pmf(e.light);
     PathVertex& l = ws.light[0];
@@ -164,15 +184,21 @@ int Tracer::trace_light_subpath(Workspace& ws, Rng& rng) {
     l.light = e.light;
     l.p = e.point;
     l.ng = e.normal;
-    l.has_normal = !e.delta_position && !e.delta_direction;
+    // The environment emits from a disc at infinity: no surface, no normal, like the sun.
+    bool environment = m_lights.is_environment(e.light);
+    l.has_normal = !e.delta_position && !e.delta_direction && !environment;
     l.delta_light = e.delta_position || e.delta_direction;
-    l.infinite = e.delta_direction;
+    l.infinite = e.delta_direction || environment;
     l.light_dir = e.dir;
     l.beta = e.value / (pmf * e.pdf_pos_a);
-    l.pdf_fwd = pmf * e.pdf_pos_a;
+    // At infinity the vertex's "area" density is the density of its direction (pbrt-v3 16.3).
+    l.pdf_fwd = pmf * (environment ? e.pdf_dir_w : e.pdf_pos_a);
     Rgb beta = l.beta;
     float pdf_w = e.pdf_dir_w;
-    if (e.delta_direction) {
+    if (environment) {
+        beta = beta / e.pdf_dir_w;
+        pdf_w = e.pdf_pos_a;  // the first hit's density: the disc's, projected
+    } else if (e.delta_direction) {
         pdf_w = e.pdf_pos_a;  // handed to the first hit as the disc's area density
     } else {
         float cos_light = l.has_normal ? std::fabs(dot(e.normal, e.dir)) : 1.0f;
@@ -181,8 +207,10 @@ int Tracer::trace_light_subpath(Workspace& ws, Rng& rng) {
     int max_vertices = m_settings.max_depth + 1;
     Vec3 origin = e.point;
     if (l.has_normal) {
-        // Leave the emitting triangle without hitting it again.
-        origin = offset_ray_origin(e.point, abs(e.point) * (32.0f * 0x1p-24f), e.normal, e.dir);
+        // Leave the emitting triangle without hitting it again: the sampled point carries the
+        // rounding error of its barycentric interpolation.
+        l.p_error = abs(e.point) * (32.0f * 0x1p-24f);
+        origin = offset_ray_origin(e.point, l.p_error, e.normal, e.dir);
     }
     return random_walk(ws.light, 1, origin, e.dir, beta, pdf_w, TransportMode::Importance, max_vertices, rng);
 }
@@ -190,16 +218,19 @@ int Tracer::trace_light_subpath(Workspace& ws, Rng& rng) {
 bool Tracer::visible(const PathVertex& a, const PathVertex& b) {
     ++m_stats.rays;
     Vec3 d = b.p - a.p;
-    Vec3 o = a.has_normal && a.kind == PathVertex::Kind::Surface ? offset_ray_origin(a.p, a.p_error, a.ng, d) : a.p;
-    Vec3 target = b.kind == PathVertex::Kind::Surface ? offset_ray_origin(b.p, b.p_error, b.ng, -d) : b.p;
+    // Both ends leave their surfaces (or area lights) past the position's error bound.
+    Vec3 o = a.has_normal ? offset_ray_origin(a.p, a.p_error, a.ng, d) : a.p;
+    Vec3 target = b.has_normal ? offset_ray_origin(b.p, b.p_error, b.ng, -d) : b.p;
     Vec3 dt = target - o;
     float dist = length(dt);
     if (!(dist > 0.0f)) return false;
     return !m_rs.accel().occluded(o, dt / dist, dist * (1.0f - k_shadow_epsilon));
 }
 
-// Radiance a surface vertex on an emitter sends toward unit direction w.
+// Radiance a surface vertex on an emitter (or the environment vertex) sends toward unit direction w.
 Rgb Tracer::emitted_toward(const PathVertex& v, const Vec3& w) const {
+    if (v.light >= 0 && v.infinite && m_lights.is_environment(static_cast<size_t>(v.light)))
+        return m_lights.environment_radiance(-v.light_dir);
     if (v.light < 0 || v.kind != PathVertex::Kind::Surface) return Rgb(0.0f);
     const auto& tl = std::get<TriangleLight>(m_lights.light(static_cast<size_t>(v.light)));
     return m_lights.triangle_radiance(tl, w, evaluate_emission(*v.material, m_rs.scene(), v.attr));
@@ -208,6 +239,11 @@ Rgb Tracer::emitted_toward(const PathVertex& v, const Vec3& w) const {
 // Area density with which the light sampler produces point v (on a light) as a path origin.
 float Tracer::light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const {
     float pdf_pos, pdf_dir;
+    if (m_lights.is_environment(static_cast<size_t>(v.light))) {
+        // At infinity the origin's "area" density is that of its direction.
+        m_lights.pdf_emission(static_cast<size_t>(v.light), v.light_dir, &pdf_pos, &pdf_dir);
+        return m_lights.selection_pmf(static_cast<size_t>(v.light)) * pdf_dir;
+    }
     m_lights.pdf_emission(static_cast<size_t>(v.light), dir_out, &pdf_pos, &pdf_dir);
     return m_lights.selection_pmf(static_cast<size_t>(v.light)) * pdf_pos;
 }
@@ -272,7 +308,9 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
     for (int i = t - 1; i > 0; --i) {
         float rev = i == t - 1 ? z_rev : (i == t - 2 ? z_prev_rev : camera[i].pdf_rev);
         r *= remap0(rev) / remap0(camera[i].pdf_fwd);
-        if (!camera[i].delta && !camera[i - 1].delta) sum += r * r;
+        // (s, t) = (1, 1) from the environment is never sampled: the camera sees it only by s = 0.
+        bool unsampled = s == 0 && t == 2 && camera[1].infinite;
+        if (!camera[i].delta && !camera[i - 1].delta && !unsampled) sum += r * r;
     }
     // Light side: strategies that would have made more of the path from the camera.
     r = 1.0;
@@ -286,7 +324,7 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
     return static_cast<float>(1.0 / (1.0 + sum));
 }
 
-Rgb Tracer::sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film) {
+Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) {
     int n_camera = trace_camera_subpath(ws, fx, fy, rng);
     int n_light = trace_light_subpath(ws, rng);
     Rgb radiance(0.0f);
@@ -295,6 +333,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film) {
         for (int s = 0; s <= n_light || (s == 1 && t > 1); ++s) {
             if (!wanted(s, t)) continue;
             const PathVertex& z = ws.camera[t - 1];
+            if (s > 0 && z.kind == PathVertex::Kind::Light) continue;  // the environment ends a camera subpath
             if (s == 0) {
                 // The camera subpath found an emitter by itself.
                 if (t < 2 || z.light < 0) continue;
@@ -309,6 +348,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film) {
                 if (m_camera.orthographic()) continue;
                 if (s > 1 && y.bsdf.is_pure_delta()) continue;
                 if (s == 1 && y.delta_light) continue;  // point and sun lights are invisible to the camera
+                if (s == 1 && y.infinite) continue;     // the environment: seen by s = 0 alone
                 Vec3 d = y.p - z.p;
                 float dist2 = length_squared(d);
                 if (!(dist2 > 0.0f)) continue;
@@ -338,7 +378,9 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Rng& rng, Film& film) {
                 // Next-event estimation: a fresh point on a light.
                 if (z.bsdf.is_black() || z.bsdf.is_pure_delta()) continue;
                 LightSample ls;
-                if (!m_lights.sample_direct(z.p, rng.next_float(), rng.next_float(), rng.next_float(), &ls)) continue;
+                float u_select = rng.next_1d();
+                Vec2 u_light = rng.next_2d();
+                if (!m_lights.sample_direct(z.p, u_select, u_light.x, u_light.y, &ls)) continue;
                 Vec3 wo = normalize(ws.camera[t - 2].p - z.p);
                 Rgb f = z.bsdf.eval(wo, ls.wi, TransportMode::Radiance);
                 if (f.is_black()) continue;
@@ -399,14 +441,14 @@ void BidirectionalTracer::render_tile(const RenderScene& rs, const Tile& tile, u
         for (int x = tile.x0; x < tile.x1; ++x) {
             uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
             for (uint32_t s = sample_begin; s < sample_end; ++s) {
-                Rng rng = Rng::for_sample(m_settings.seed, pixel, s);
-                float fx = x + rng.next_float(), fy = y + rng.next_float();
+                Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
+                auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
                 Rgb l = tracer.sample(ws, fx, fy, rng, film);
                 if (!l.is_finite()) {
                     ++stats.nonfinite;
                     continue;
                 }
-                film.add_sample(x, y, l);
+                add_camera_sample(film, rs, x, y, fx, fy, l);
             }
         }
     }

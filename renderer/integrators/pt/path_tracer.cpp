@@ -1,8 +1,10 @@
 #include "integrators/pt/path_tracer.h"
 
-#include "core/rng.h"
+#include "core/sobol_sampler.h"
+#include "integrators/first_hit_aovs.h"
 #include "integrators/surface_hit.h"
 #include "materials/surface_bsdf.h"
+#include "materials/volume_absorption.h"
 
 namespace veach {
 
@@ -12,11 +14,12 @@ namespace {
 constexpr int k_roulette_start = 3;
 }  // namespace
 
-Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Rng& rng, ThreadStats& stats) const {
+Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng, ThreadStats& stats) const {
     const Scene& scene = rs.scene();
     const LightSet& lights = rs.lights();
     Rgb radiance(0.0f);
     Rgb beta(1.0f);
+    Rgb sigma_a(0.0f);           // absorption of the medium the ray travels in (KHR_materials_volume)
     float prev_bsdf_pdf = 0.0f;  // solid-angle density of the direction that led here
     bool prev_specular = true;   // camera rays count as specular: no MIS for what they see
     Vec3 prev_p = origin;
@@ -24,8 +27,18 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Rng& rng, Th
     for (int bounce = 0;; ++bounce) {
         RayHit rh;
         ++stats.rays;
-        if (!rs.accel().intersect(origin, dir, k_infinity, &rh)) break;
+        if (!rs.accel().intersect(origin, dir, k_infinity, &rh)) {
+            // Escaped: the environment, weighted against the light sample that could have
+            // chosen the same direction (its density is per solid angle, as the BSDF's).
+            if (lights.environment_index() >= 0) {
+                Rgb le = lights.environment_radiance(dir);
+                float w = prev_specular ? 1.0f : power_heuristic(prev_bsdf_pdf, lights.environment_pdf_w(dir));
+                radiance += beta * le * w;
+            }
+            break;
+        }
         SurfaceHit hit = make_surface_hit(rs, rh);
+        beta *= beer_lambert(sigma_a, rh.t * length(dir));  // the segment just travelled
         Vec3 wo = -dir;
 
         // Emission found by the BSDF-sampled direction (or seen directly by the camera).
@@ -49,9 +62,13 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Rng& rng, Th
         if (bsdf.is_black()) break;
 
         // Next-event estimation.
+        // The same dimensions are drawn whether or not a light sample is taken, so the
+        // sampler's pairs stay aligned from path to path.
+        float u_light_select = rng.next_1d();
+        Vec2 u_light = rng.next_2d();
         LightSample ls;
         if (!lights.empty() && !bsdf.is_pure_delta() &&
-            lights.sample_direct(hit.p, rng.next_float(), rng.next_float(), rng.next_float(), &ls)) {
+            lights.sample_direct(hit.p, u_light_select, u_light.x, u_light.y, &ls)) {
             Rgb f = bsdf.eval(wo, ls.wi, TransportMode::Radiance);
             if (!f.is_black()) {
                 Vec3 o = offset_ray_origin(hit.p, hit.p_error, hit.ng, ls.wi);
@@ -59,18 +76,24 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Rng& rng, Th
                 ++stats.rays;
                 if (!rs.accel().occluded(o, ls.wi, t_max)) {
                     float w = ls.is_delta ? 1.0f : power_heuristic(ls.pdf_w, bsdf.pdf_w(wo, ls.wi));
-                    radiance += beta * f * ls.radiance * (w / ls.pdf_w);
+                    // An unoccluded light seen from inside a closed medium is inside it too.
+                    Rgb tr = beer_lambert(sigma_a, ls.is_infinite ? 0.0f : length(ls.point - hit.p));
+                    radiance += beta * tr * f * ls.radiance * (w / ls.pdf_w);
                 }
             }
-        } else {
-            rng.next_float(); rng.next_float(); rng.next_float();  // keep the stream aligned
         }
 
         // Continue the path by sampling the BSDF.
         BsdfSample bs;
-        if (!bsdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), TransportMode::Radiance, &bs))
+        float u_lobe = rng.next_1d();
+        Vec2 u_dir = rng.next_2d();
+        if (!bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, TransportMode::Radiance, &bs))
             break;
         beta *= bs.weight;
+        // Crossing a transmissive surface changes the medium: entering takes the material's
+        // absorption, leaving returns to air (closed, non-nested meshes).
+        if (dot(bs.wi, hit.ng) * dot(wo, hit.ng) < 0.0f)
+            sigma_a = bsdf.entering() ? hit.material->absorption() : Rgb(0.0f);
         if (bounce + 1 >= k_roulette_start) {
             float q = std::min(1.0f, beta.max());
             if (rng.next_float() >= q) break;
@@ -93,8 +116,8 @@ void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t s
         for (int x = tile.x0; x < tile.x1; ++x) {
             uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
             for (uint32_t s = sample_begin; s < sample_end; ++s) {
-                Rng rng = Rng::for_sample(m_settings.seed, pixel, s);
-                float fx = x + rng.next_float(), fy = y + rng.next_float();
+                Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
+                auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
                 Vec3 o, d;
                 camera.generate_ray(fx, fy, &o, &d);
                 Rgb l = trace(rs, o, d, rng, stats);
@@ -102,7 +125,7 @@ void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t s
                     ++stats.nonfinite;  // dropped, never written
                     continue;
                 }
-                film.add_sample(x, y, l);
+                add_camera_sample(film, rs, x, y, fx, fy, l);
             }
         }
     }

@@ -1,0 +1,104 @@
+// The objects behind the C API's opaque handles, and the one function that turns a C++ exception
+// into a VeachError. Internal to libveach: hosts see only renderer/include/veach/veach.h.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <type_traits>
+
+#include "api/render_job.h"
+#include "output/image_output.h"
+#include "scene/scene.h"
+#include "veach/veach.h"
+
+namespace veach::capi {
+
+// Intrusive reference count: the C API hands out raw pointers, so the count lives in the object.
+// Starts at 1 (the creator's reference).
+struct RefCounted {
+    std::atomic<int> m_refs{1};
+    void retain() { m_refs.fetch_add(1, std::memory_order_relaxed); }
+    // True when this was the last reference (the caller deletes).
+    bool release() { return m_refs.fetch_sub(1, std::memory_order_acq_rel) == 1; }
+};
+
+}  // namespace veach::capi
+
+struct VeachDeviceImpl : veach::capi::RefCounted {
+    std::mutex m_mutex;  // guards the callback, which any thread may set or call
+    VeachErrorFunction m_error_fn = nullptr;
+    void* m_error_user = nullptr;
+
+    // Records `message` as this thread's last error and calls the error callback.
+    void report(VeachError code, const std::string& message);
+};
+
+struct VeachSceneImpl : veach::capi::RefCounted {
+    VeachDeviceImpl* m_device = nullptr;  // retained
+    veach::Scene m_scene;                 // immutable once loaded: renders share it read-only
+    ~VeachSceneImpl();
+};
+
+struct VeachRenderImpl : veach::capi::RefCounted {
+    VeachSceneImpl* m_scene = nullptr;  // retained
+
+    // Options and results, guarded by m_mutex; options change only while no render runs.
+    std::mutex m_mutex;
+    std::condition_variable m_finished;
+    veach::RenderJobOptions m_job;
+    veach::OutputSettings m_output;
+    VeachProgressFunction m_progress_fn = nullptr;
+    void* m_progress_user = nullptr;
+    std::shared_ptr<const veach::RenderResult> m_result;  // the last finished or cancelled render
+    VeachError m_failure = VEACH_ERROR_NONE;              // why the last render failed
+    std::string m_failure_message;
+
+    std::atomic<int> m_status{VEACH_STATUS_IDLE};
+    std::atomic<bool> m_cancel{false};
+    std::atomic<double> m_progress{0}, m_eta{0};
+    std::thread m_worker;  // the asynchronous render's thread
+
+    ~VeachRenderImpl();
+    // Renders on the calling thread; m_status must already be RUNNING. Returns the outcome.
+    VeachError run();
+};
+
+namespace veach::capi {
+
+// This thread's last error (set by every entry point: cleared on entry, filled on failure).
+void clear_last_error();
+void set_last_error(VeachError code, const std::string& message);
+
+// Maps the exception being handled to a code and message. Call only inside a catch block.
+VeachError code_of_current_exception(std::string& message);
+
+// An error raised by the API layer itself, with its code.
+struct ApiError {
+    VeachError code;
+    std::string message;
+};
+
+// Runs an entry point's body with the boundary's contract: the last error cleared on entry, and
+// any exception caught, reported (callback of `device` if known, last error always) and mapped to
+// `on_error` (or, for functions returning a VeachError, to the exception's own code). No exception
+// leaves libveach.
+template <class R, class Body>
+R guarded(VeachDeviceImpl* device, R on_error, Body&& body) noexcept {
+    clear_last_error();
+    try {
+        return body();
+    } catch (...) {
+        std::string message;
+        VeachError code = code_of_current_exception(message);
+        if (device) device->report(code, message);
+        else set_last_error(code, message);
+        if constexpr (std::is_same_v<R, VeachError>) return code;  // the precise code, not the fallback
+        else return on_error;
+    }
+}
+
+}  // namespace veach::capi

@@ -1,0 +1,424 @@
+// The C API's renders: typed options by name, synchronous and asynchronous rendering with
+// progress and cancel, passes copied into the host's buffers, and writing through the output
+// driver.
+//
+// Cancel latency: veachCancelRender only sets an atomic flag. The tile driver
+// (integrators/integrator.cpp) reads it before every 16x16 tile, so a render stops after at most
+// the tiles already running finish their current pass (up to 16 samples per pixel of one tile
+// per worker thread); tests/api measures it. Building the BVH is not interruptible.
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+#include "api/c_api_handles.h"
+
+using veach::capi::ApiError;
+using veach::capi::guarded;
+
+VeachRenderImpl::~VeachRenderImpl() {
+    m_cancel = true;
+    if (m_worker.joinable()) m_worker.join();
+    veachReleaseScene(m_scene);
+}
+
+VeachError VeachRenderImpl::run() {
+    veach::RenderJobOptions job;
+    VeachProgressFunction progress_fn;
+    void* progress_user;
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        job = m_job;
+        progress_fn = m_progress_fn;
+        progress_user = m_progress_user;
+        m_failure = VEACH_ERROR_NONE;
+        m_failure_message.clear();
+    }
+    m_progress = 0;
+    m_eta = 0;
+
+    veach::RenderControl control;
+    control.cancel = &m_cancel;
+    control.progress = [&](double fraction, double eta) {
+        m_progress = fraction;
+        m_eta = eta;
+        if (progress_fn && !progress_fn(progress_user, fraction, eta)) m_cancel = true;
+    };
+
+    VeachError outcome = VEACH_ERROR_NONE;
+    std::string message;
+    VeachStatus status = VEACH_STATUS_DONE;
+    try {
+        auto result = std::make_shared<veach::RenderResult>(veach::render_scene(m_scene->m_scene, job, control));
+        if (result->stats.cancelled) {
+            status = VEACH_STATUS_CANCELLED;
+            outcome = VEACH_ERROR_CANCELLED;
+            message = "render cancelled after " + std::to_string(result->stats.spp_done) + " samples per pixel";
+        } else {
+            m_progress = 1;
+            m_eta = 0;
+        }
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_result = std::move(result);
+    } catch (...) {
+        outcome = veach::capi::code_of_current_exception(message);
+        status = VEACH_STATUS_FAILED;
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_failure = outcome;
+        m_failure_message = message;
+    }
+    if (status == VEACH_STATUS_FAILED) m_scene->m_device->report(outcome, message);
+    else if (status == VEACH_STATUS_CANCELLED) veach::capi::set_last_error(outcome, message);
+    {
+        // Publish under the mutex so that a waiter cannot miss the notification.
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_status = status;
+    }
+    m_finished.notify_all();
+    return outcome;
+}
+
+namespace {
+
+ApiError invalid(const std::string& message) { return ApiError{VEACH_ERROR_INVALID_ARGUMENT, message}; }
+
+VeachDeviceImpl* device_of(VeachRender render) { return render ? render->m_scene->m_device : nullptr; }
+
+void check_render(VeachRender render, const char* function) {
+    if (!render) throw invalid(std::string(function) + ": null render");
+}
+
+void check_not_running(VeachRender render, const char* function) {
+    if (render->m_status == VEACH_STATUS_RUNNING)
+        throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": a render is running"};
+}
+
+int to_int(const std::string& name, long long value, long long lo, long long hi) {
+    if (value < lo || value > hi)
+        throw invalid("option '" + name + "': " + std::to_string(value) + " is outside [" + std::to_string(lo) + ", " +
+                      std::to_string(hi) + "]");
+    return static_cast<int>(value);
+}
+
+constexpr long long k_int_max = std::numeric_limits<int>::max();
+
+// Each option's type is fixed by its name; asking with another type is an error that names the
+// right one, so a host binding gets a useful message.
+enum class Kind { None, Int, Float, String };
+
+Kind kind_of(const std::string& n) {
+    static const char* const ints[] = {"width", "height", "spp", "seed", "max_depth", "threads", "bits", "quality",
+                                       "half", "aovs", "result_width", "result_height", "result_spp"};
+    static const char* const floats[] = {"time_limit", "exposure", "gamma", "filter_width",
+                                         "progress", "eta_seconds", "render_seconds"};
+    static const char* const strings[] = {"integrator", "camera", "filter", "display", "view", "look"};
+    for (const char* k : ints)
+        if (n == k) return Kind::Int;
+    for (const char* k : floats)
+        if (n == k) return Kind::Float;
+    for (const char* k : strings)
+        if (n == k) return Kind::String;
+    return Kind::None;
+}
+
+void check_kind(const char* name, Kind wanted) {
+    if (!name) throw invalid("null option name");
+    Kind k = kind_of(name);
+    if (k == wanted) return;
+    static constexpr const char* names[] = {"", "an int", "a float", "a string"};
+    if (k == Kind::None) throw invalid(std::string("unknown option '") + name + "'");
+    throw invalid(std::string("option '") + name + "' is " + names[static_cast<int>(k)] + ", not " +
+                  names[static_cast<int>(wanted)]);
+}
+
+}  // namespace
+
+extern "C" {
+
+VEACH_API VeachRender veachNewRender(VeachScene scene) {
+    return guarded<VeachRender>(scene ? scene->m_device : nullptr, nullptr, [&] {
+        if (!scene) throw invalid("veachNewRender: null scene");
+        auto* r = new VeachRenderImpl();
+        veachRetainScene(scene);
+        r->m_scene = scene;
+        return r;
+    });
+}
+
+VEACH_API void veachRetainRender(VeachRender render) {
+    if (render) render->retain();
+}
+
+VEACH_API void veachReleaseRender(VeachRender render) {
+    if (render && render->release()) delete render;
+}
+
+VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachSetInt");
+        check_kind(name, Kind::Int);
+        check_not_running(render, "veachSetInt");
+        std::string n = name;
+        if (n.rfind("result_", 0) == 0) throw invalid("option '" + n + "' is read-only");
+        std::lock_guard<std::mutex> lock(render->m_mutex);
+        veach::RenderJobOptions& job = render->m_job;
+        if (n == "width") job.width = to_int(n, value, 0, 65536);
+        else if (n == "height") job.height = to_int(n, value, 0, 65536);
+        else if (n == "spp") job.render.spp = to_int(n, value, 1, k_int_max);
+        else if (n == "seed") {
+            if (value < 0) throw invalid("option 'seed' must not be negative");
+            job.render.seed = static_cast<uint64_t>(value);
+        } else if (n == "max_depth") job.render.max_depth = to_int(n, value, 0, 1 << 16);
+        else if (n == "threads") job.render.threads = to_int(n, value, 0, 1 << 16);
+        else if (n == "bits") {
+            if (value != 8 && value != 16) throw invalid("option 'bits' must be 8 or 16");
+            render->m_output.bits = static_cast<int>(value);
+        } else if (n == "quality") render->m_output.quality = to_int(n, value, 1, 100);
+        else if (n == "half") render->m_output.half = to_int(n, value, 0, 1) != 0;
+        else if (n == "aovs") job.film.aovs = to_int(n, value, 0, 1) != 0;
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachSetFloat");
+        check_kind(name, Kind::Float);
+        check_not_running(render, "veachSetFloat");
+        std::string n = name;
+        if (!std::isfinite(value)) throw invalid("option '" + n + "' must be finite");
+        std::lock_guard<std::mutex> lock(render->m_mutex);
+        if (n == "time_limit") {
+            if (value < 0) throw invalid("option 'time_limit' must not be negative");
+            render->m_job.render.time_limit = value;
+        } else if (n == "filter_width") {
+            if (value <= 0 || value > 64) throw invalid("option 'filter_width' must be in (0, 64] pixels");
+            render->m_job.film.filter.width = static_cast<float>(value);
+        } else if (n == "exposure") render->m_output.display.exposure = static_cast<float>(value);
+        else if (n == "gamma") {
+            if (value <= 0) throw invalid("option 'gamma' must be positive");
+            render->m_output.display.gamma = static_cast<float>(value);
+        } else throw invalid("option '" + n + "' is read-only");
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachSetString");
+        check_kind(name, Kind::String);
+        check_not_running(render, "veachSetString");
+        std::string n = name, v = value ? value : "";
+        std::lock_guard<std::mutex> lock(render->m_mutex);
+        if (n == "integrator") {
+            veach::RenderSettings probe;
+            probe.integrator = v;
+            veach::make_integrator(probe);  // throws invalid_argument naming the known ones
+            render->m_job.render.integrator = v;
+        } else if (n == "camera") {
+            veach::select_camera(render->m_scene->m_scene, v);  // throws naming the scene's cameras
+            render->m_job.camera = v;
+        } else if (n == "filter") {
+            if (!veach::parse_filter_name(v, &render->m_job.film.filter.type))
+                throw invalid("option 'filter': unknown filter '" + v + "' (known: box, gaussian, blackman-harris)");
+        } else if (n == "display") render->m_output.display.display = v;
+        else if (n == "view") render->m_output.display.view = v;
+        else if (n == "look") render->m_output.display.look = v;
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long* value) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachGetInt");
+        check_kind(name, Kind::Int);
+        if (!value) throw invalid("veachGetInt: null value pointer");
+        std::string n = name;
+        std::lock_guard<std::mutex> lock(render->m_mutex);
+        const veach::RenderJobOptions& job = render->m_job;
+        const veach::RenderResult* r = render->m_result.get();
+        if (n == "width") *value = job.width > 0 ? job.width : 1920;
+        else if (n == "height") *value = job.height;
+        else if (n == "spp") *value = job.render.spp;
+        else if (n == "seed") *value = static_cast<long long>(job.render.seed);
+        else if (n == "max_depth") *value = job.render.max_depth;
+        else if (n == "threads") *value = job.render.threads;
+        else if (n == "bits") *value = render->m_output.bits;
+        else if (n == "quality") *value = render->m_output.quality;
+        else if (n == "half") *value = render->m_output.half ? 1 : 0;
+        else if (n == "aovs") *value = job.film.aovs ? 1 : 0;
+        else if (n == "result_width") *value = r ? r->image.width : 0;
+        else if (n == "result_height") *value = r ? r->image.height : 0;
+        else if (n == "result_spp") *value = r ? r->stats.spp_done : 0;
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double* value) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachGetFloat");
+        check_kind(name, Kind::Float);
+        if (!value) throw invalid("veachGetFloat: null value pointer");
+        std::string n = name;
+        if (n == "progress") *value = render->m_progress.load();
+        else if (n == "eta_seconds") *value = render->m_eta.load();
+        else {
+            std::lock_guard<std::mutex> lock(render->m_mutex);
+            if (n == "time_limit") *value = render->m_job.render.time_limit;
+            else if (n == "exposure") *value = render->m_output.display.exposure;
+            else if (n == "gamma") *value = render->m_output.display.gamma;
+            else if (n == "filter_width") *value = render->m_job.film.filter.width;
+            else if (n == "render_seconds") *value = render->m_result ? render->m_result->render_seconds : 0.0;
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API void veachSetProgressFunction(VeachRender render, VeachProgressFunction fn, void* user) {
+    guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachSetProgressFunction");
+        check_not_running(render, "veachSetProgressFunction");
+        std::lock_guard<std::mutex> lock(render->m_mutex);
+        render->m_progress_fn = fn;
+        render->m_progress_user = user;
+        return VEACH_ERROR_NONE;
+    });
+}
+
+namespace {
+
+// Moves the render from not-running to RUNNING, atomically, so two starts cannot both win.
+void claim(VeachRender render, const char* function) {
+    int expected = render->m_status.load();
+    do {
+        if (expected == VEACH_STATUS_RUNNING)
+            throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": a render is already running"};
+    } while (!render->m_status.compare_exchange_weak(expected, VEACH_STATUS_RUNNING));
+    render->m_cancel = false;
+}
+
+}  // namespace
+
+VEACH_API VeachError veachRender(VeachRender render) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachRender");
+        claim(render, "veachRender");
+        // run() reports its own failures (callback + this thread's last error).
+        return render->run();
+    });
+}
+
+VEACH_API VeachError veachRenderAsync(VeachRender render) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachRenderAsync");
+        claim(render, "veachRenderAsync");
+        try {
+            if (render->m_worker.joinable()) render->m_worker.join();  // the previous render, finished
+            render->m_worker = std::thread([render] { render->run(); });
+        } catch (...) {
+            render->m_status = VEACH_STATUS_FAILED;
+            throw;
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachStatus veachWaitRender(VeachRender render, int timeout_ms) {
+    return guarded<VeachStatus>(device_of(render), VEACH_STATUS_FAILED, [&] {
+        check_render(render, "veachWaitRender");
+        std::unique_lock<std::mutex> lock(render->m_mutex);
+        auto finished = [&] { return render->m_status != VEACH_STATUS_RUNNING; };
+        if (timeout_ms < 0) render->m_finished.wait(lock, finished);
+        else render->m_finished.wait_for(lock, std::chrono::milliseconds(timeout_ms), finished);
+        auto status = static_cast<VeachStatus>(render->m_status.load());
+        if (status == VEACH_STATUS_FAILED) veach::capi::set_last_error(render->m_failure, render->m_failure_message);
+        return status;
+    });
+}
+
+VEACH_API VeachStatus veachGetRenderStatus(VeachRender render) {
+    return render ? static_cast<VeachStatus>(render->m_status.load()) : VEACH_STATUS_FAILED;
+}
+
+VEACH_API void veachCancelRender(VeachRender render) {
+    if (render) render->m_cancel = true;
+}
+
+VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t row_stride_bytes) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachGetPass");
+        std::string p = pass ? pass : "";
+        if (!dst) throw invalid("veachGetPass: null destination");
+        std::shared_ptr<const veach::RenderResult> result;
+        {
+            std::lock_guard<std::mutex> lock(render->m_mutex);
+            result = render->m_result;
+        }
+        if (!result) throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachGetPass: nothing rendered yet"};
+        const veach::Image& image = result->image;
+        // Every pass leaves as 4 floats per pixel so that one buffer layout serves them all.
+        const std::vector<float>* source = nullptr;
+        int channels = 4;
+        if (p == "combined" || p == "color") source = &image.rgba;
+        else if (p == "depth") source = &image.depth, channels = 1;
+        else if (p == "normal") source = &image.normal, channels = 3;
+        else if (p == "albedo") source = &image.albedo, channels = 3;
+        else if (p == "variance") source = &image.variance, channels = 3;
+        else throw invalid("veachGetPass: unknown pass '" + p + "' (known: combined, depth, normal, albedo, variance)");
+        const size_t pixels = static_cast<size_t>(image.width) * image.height;
+        if (source->size() != pixels * channels)
+            throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                           "veachGetPass: pass '" + p + "' was not recorded (set the int option 'aovs' to 1)"};
+        size_t row_bytes = static_cast<size_t>(image.width) * 4 * sizeof(float);
+        if (row_stride_bytes == 0) row_stride_bytes = row_bytes;
+        if (row_stride_bytes < row_bytes) throw invalid("veachGetPass: row stride smaller than a row");
+        if (row_stride_bytes % sizeof(float) != 0) throw invalid("veachGetPass: row stride not a multiple of 4 bytes");
+        auto* out = reinterpret_cast<unsigned char*>(dst);
+        for (int y = 0; y < image.height; ++y) {
+            float* row = reinterpret_cast<float*>(out + static_cast<size_t>(y) * row_stride_bytes);
+            const float* in = source->data() + static_cast<size_t>(y) * image.width * channels;
+            if (channels == 4) {
+                std::memcpy(row, in, row_bytes);
+                continue;
+            }
+            for (int x = 0; x < image.width; ++x) {
+                const float* px = in + static_cast<size_t>(x) * channels;
+                float* o = row + static_cast<size_t>(x) * 4;
+                o[0] = px[0];
+                o[1] = channels == 3 ? px[1] : px[0];
+                o[2] = channels == 3 ? px[2] : px[0];
+                o[3] = 1.0f;
+            }
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachWriteImage(VeachRender render, const char* path) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_OUTPUT, [&] {
+        check_render(render, "veachWriteImage");
+        if (!path || !*path) throw invalid("veachWriteImage: empty path");
+        std::shared_ptr<const veach::RenderResult> result;
+        veach::OutputSettings settings;
+        std::string integrator;
+        uint64_t seed;
+        {
+            std::lock_guard<std::mutex> lock(render->m_mutex);
+            result = render->m_result;
+            settings = render->m_output;
+            integrator = render->m_job.render.integrator;
+            seed = render->m_job.render.seed;
+        }
+        if (!result) throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachWriteImage: nothing rendered yet"};
+        settings.metadata["Software"] = std::string("veach ") + VEACH_VERSION_STRING;
+        settings.metadata["veach:camera"] = result->camera_name;
+        settings.metadata["veach:spp"] = std::to_string(result->stats.spp_done);
+        settings.metadata["veach:seed"] = std::to_string(seed);
+        settings.metadata["veach:integrator"] = integrator;
+        veach::write_image(result->image, path, settings);
+        return VEACH_ERROR_NONE;
+    });
+}
+
+}  // extern "C"

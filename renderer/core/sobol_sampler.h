@@ -1,0 +1,95 @@
+// Sample values for one pixel sample, keyed by (seed, pixel, sample index) like Rng.
+//
+// The first dimensions come in pairs from the (0,2)-sequence (the first two Sobol dimensions),
+// each pair with its own Owen scrambling and its own scrambled index shuffle (Burley 2020,
+// "Practical Hash-based Owen Scrambling"): within a pixel, the first N samples of every pair are
+// stratified in all elementary intervals, so the pixel jitter and the first bounces' light and
+// BSDF samples converge faster than with independent numbers. Later dimensions, where
+// stratification no longer pays, come from PCG32. Owen scrambling keeps every sample uniformly
+// distributed, so estimates stay unbiased.
+#pragma once
+
+#include <cstdint>
+
+#include "core/math.h"
+#include "core/rng.h"
+
+namespace veach {
+
+inline uint32_t reverse_bits(uint32_t x) {
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
+}
+
+// A hash in which every bit depends only on itself and lower bits (x += seed, and x ^= x * even
+// constants only carry upward): applied to bit-reversed values it is a nested uniform (Owen)
+// scramble. Constants from Burley 2020.
+inline uint32_t owen_hash_reversed(uint32_t x, uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
+    return reverse_bits(owen_hash_reversed(reverse_bits(x), seed));
+}
+
+// Sobol dimension 0 (van der Corput) and 1 (direction numbers v_k = v_(k-1) ^ (v_(k-1) >> 1)).
+inline uint32_t sobol_dimension0(uint32_t i) { return reverse_bits(i); }
+struct SobolDimension1Matrix {
+    uint32_t v[32];
+    constexpr SobolDimension1Matrix() : v() {
+        uint32_t d = 1u << 31;
+        for (int k = 0; k < 32; ++k, d ^= d >> 1) v[k] = d;
+    }
+};
+inline constexpr SobolDimension1Matrix k_sobol_dimension1;
+inline uint32_t sobol_dimension1(uint32_t i) {
+    uint32_t r = 0;
+    for (; i; i &= i - 1) r ^= k_sobol_dimension1.v[__builtin_ctz(i)];  // one XOR per set bit
+    return r;
+}
+
+enum class SamplerKind : uint8_t { Sobol, Random };
+
+class Sampler {
+public:
+    // Pairs of dimensions drawn from the scrambled (0,2)-sequence: the camera jitter and the
+    // first two bounces' light and BSDF samples.
+    static constexpr int k_sobol_pairs = 12;
+
+    Sampler(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t sample_index)
+        : m_rng(Rng::for_sample(seed, pixel, sample_index)),
+          m_key(mix64(seed * 0x9e3779b97f4a7c15ull ^ mix64(pixel + 0x2545f4914f6cdd1dull))),
+          m_index(sample_index), m_pair(kind == SamplerKind::Sobol ? 0 : k_sobol_pairs) {}
+
+    // Two stratified values (one dimension pair).
+    Vec2 next_2d() {
+        if (m_pair >= k_sobol_pairs) return {m_rng.next_float(), m_rng.next_float()};
+        uint64_t h = mix64(m_key + static_cast<uint64_t>(m_pair) * 0xd1b54a32d192ed03ull);
+        ++m_pair;
+        uint32_t i = owen_scramble(m_index, static_cast<uint32_t>(h));
+        uint32_t x = owen_scramble(sobol_dimension0(i), static_cast<uint32_t>(h >> 32));
+        uint32_t y = owen_scramble(sobol_dimension1(i), static_cast<uint32_t>(mix64(h) >> 32));
+        return {to_unit(x), to_unit(y)};
+    }
+    // One value; in the stratified range it uses a whole pair so later pairs stay aligned.
+    float next_1d() { return m_pair >= k_sobol_pairs ? m_rng.next_float() : next_2d().x; }
+    float next_float() { return next_1d(); }
+
+private:
+    static float to_unit(uint32_t v) { return static_cast<float>(v >> 8) * 0x1p-24f; }
+
+    Rng m_rng;
+    uint64_t m_key;
+    uint32_t m_index;
+    int m_pair;
+};
+
+}  // namespace veach

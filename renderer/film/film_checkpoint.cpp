@@ -1,0 +1,114 @@
+#include "film/film_checkpoint.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+namespace veach {
+
+namespace {
+
+// Layout (native byte order, doubles as IEEE 754): magic, then the header fields, then
+// Film::state_size() doubles, then the end marker that proves the write completed.
+constexpr char k_magic[8] = {'V', 'E', 'A', 'C', 'H', 'C', 'K', '1'};
+constexpr char k_end[8] = {'V', 'E', 'A', 'C', 'H', 'E', 'N', 'D'};
+
+struct Header {
+    char magic[8];
+    uint32_t width, height;
+    uint32_t aovs;
+    int32_t spp_done;
+    uint64_t settings_hash;
+    uint64_t state_doubles;
+};
+
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+[[noreturn]] void fail(const std::string& path, const std::string& reason) {
+    throw CheckpointError(path + ": " + reason);
+}
+
+[[noreturn]] void fail_write(const std::string& path, const std::string& reason) {
+    throw CheckpointWriteError(path + ": " + reason);
+}
+
+std::string temp_name(const std::string& path) {
+    size_t slash = path.find_last_of('/');
+    std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    return folder + "." + name + ".tmp-" + std::to_string(::getpid());
+}
+
+}  // namespace
+
+uint64_t fnv1a_64(const void* data, size_t size, uint64_t hash) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) {
+        hash ^= bytes[i];
+        hash *= 0x100000001b3ull;
+    }
+    return hash;
+}
+
+void write_film_checkpoint(const std::string& path, const Film& film, uint64_t settings_hash, int spp_done) {
+    Header h{};
+    std::memcpy(h.magic, k_magic, sizeof(k_magic));
+    h.width = static_cast<uint32_t>(film.width());
+    h.height = static_cast<uint32_t>(film.height());
+    h.aovs = film.wants_aovs() ? 1u : 0u;
+    h.spp_done = spp_done;
+    h.settings_hash = settings_hash;
+    h.state_doubles = film.state_size();
+    std::vector<double> state(film.state_size());
+    film.save_state(state.data());
+
+    const std::string temp = temp_name(path);
+    bool ok;
+    {
+        File f(std::fopen(temp.c_str(), "wb"));
+        if (!f) fail_write(path, std::string("cannot write checkpoint: ") + std::strerror(errno));
+        ok = std::fwrite(&h, sizeof(h), 1, f.get()) == 1 &&
+             std::fwrite(state.data(), sizeof(double), state.size(), f.get()) == state.size() &&
+             std::fwrite(k_end, sizeof(k_end), 1, f.get()) == 1 && std::fflush(f.get()) == 0 &&
+             ::fsync(::fileno(f.get())) == 0;
+        // fclose flushes too; a failure there (disk full) must also stop the rename.
+        ok = (std::fclose(f.release()) == 0) && ok;
+    }
+    if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
+        int e = errno;
+        std::remove(temp.c_str());
+        fail_write(path, std::string("cannot write checkpoint: ") + std::strerror(e));
+    }
+}
+
+int read_film_checkpoint(const std::string& path, Film& film, uint64_t settings_hash) {
+    File f(std::fopen(path.c_str(), "rb"));
+    if (!f) fail(path, std::string("cannot read checkpoint: ") + std::strerror(errno));
+    Header h{};
+    if (std::fread(&h, sizeof(h), 1, f.get()) != 1 || std::memcmp(h.magic, k_magic, sizeof(k_magic)) != 0)
+        fail(path, "not a veach checkpoint (or truncated)");
+    if (h.width != static_cast<uint32_t>(film.width()) || h.height != static_cast<uint32_t>(film.height()))
+        fail(path, "checkpoint is " + std::to_string(h.width) + "x" + std::to_string(h.height) + ", the render " +
+                       std::to_string(film.width()) + "x" + std::to_string(film.height()));
+    if (h.settings_hash != settings_hash || h.aovs != (film.wants_aovs() ? 1u : 0u) ||
+        h.state_doubles != film.state_size())
+        fail(path, "checkpoint was made with other settings or another scene (delete it to start afresh)");
+    if (h.spp_done < 0) fail(path, "corrupt checkpoint (negative spp)");
+    std::vector<double> state(film.state_size());
+    char end[8] = {};
+    if (std::fread(state.data(), sizeof(double), state.size(), f.get()) != state.size() ||
+        std::fread(end, sizeof(end), 1, f.get()) != 1 || std::memcmp(end, k_end, sizeof(k_end)) != 0 ||
+        std::fgetc(f.get()) != EOF)
+        fail(path, "truncated or corrupt checkpoint");
+    film.load_state(state.data());
+    return h.spp_done;
+}
+
+}  // namespace veach

@@ -1,0 +1,42 @@
+// Resumable render state: the film's sums, the samples per pixel completed and a hash of every
+// setting that shapes the image, in one binary file written atomically (a temporary file in the
+// same folder, renamed when complete), so that a killed process leaves either the previous
+// checkpoint or the new one, never a torn file.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "film/film.h"
+
+namespace veach {
+
+// A checkpoint that cannot be used (bad input for a front end)...
+class CheckpointError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+// ...or cannot be written (a failure of the machine: disk full, no permission).
+class CheckpointWriteError : public CheckpointError {
+public:
+    using CheckpointError::CheckpointError;
+};
+
+// Writes the film (only while no thread renders into it). Throws CheckpointWriteError naming
+// the file.
+void write_film_checkpoint(const std::string& path, const Film& film, uint64_t settings_hash, int spp_done);
+
+// Loads a checkpoint written for the same film size, AOV set and settings hash into `film`;
+// returns its spp. Throws CheckpointError with a one-line message naming the file and the fault
+// (unreadable, truncated, not a checkpoint, made with other settings).
+int read_film_checkpoint(const std::string& path, Film& film, uint64_t settings_hash);
+
+// FNV-1a, 64 bits: a stable hash of settings text and file contents (not cryptographic: it only
+// has to tell a checkpoint of another render from ours).
+uint64_t fnv1a_64(const void* data, size_t size, uint64_t hash = 0xcbf29ce484222325ull);
+inline uint64_t fnv1a_64(const std::string& s, uint64_t hash = 0xcbf29ce484222325ull) {
+    return fnv1a_64(s.data(), s.size(), hash);
+}
+
+}  // namespace veach

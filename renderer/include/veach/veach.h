@@ -1,0 +1,160 @@
+/* Veach: the C API for host applications.
+ *
+ * Modelled on Embree's and Open Image Denoise's APIs: opaque reference-counted handles, an error
+ * callback plus a per-thread last-error string, and string-keyed typed options, so that the ABI
+ * stays stable for any language that can call C (ctypes, cffi, C#, Rust). No C++ exception
+ * crosses this boundary: every failure becomes a VeachError code and a one-line message.
+ *
+ *   VeachDevice d = veachNewDevice();
+ *   VeachScene  s = veachNewSceneFromFile(d, "cornell.gltf");
+ *   VeachRender r = veachNewRender(s);
+ *   veachSetInt(r, "width", 512); veachSetInt(r, "spp", 64); veachSetString(r, "integrator", "pt");
+ *   veachRender(r);                 (or veachRenderAsync + veachWaitRender/veachCancelRender)
+ *   veachWriteImage(r, "out.png");  (or veachGetPass into your own buffer)
+ *   veachReleaseRender(r); veachReleaseScene(s); veachReleaseDevice(d);
+ *
+ * There is no global mutable state: any number of devices, scenes and renders may live and render
+ * at once in one process. Handles may be used from any thread, but a render's options must not
+ * change while it runs.
+ */
+#ifndef VEACH_VEACH_H
+#define VEACH_VEACH_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#define VEACH_VERSION_MAJOR 0
+#define VEACH_VERSION_MINOR 1
+#define VEACH_VERSION_PATCH 0
+/* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
+#define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
+
+#if defined(_WIN32)
+#  if defined(VEACH_BUILDING_LIBRARY)
+#    define VEACH_API __declspec(dllexport)
+#  else
+#    define VEACH_API __declspec(dllimport)
+#  endif
+#else
+#  define VEACH_API __attribute__((visibility("default")))
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum VeachError {
+  VEACH_ERROR_NONE = 0,
+  VEACH_ERROR_INVALID_ARGUMENT = 1,  /* a null handle, an unknown option, a value out of range */
+  VEACH_ERROR_INVALID_OPERATION = 2, /* e.g. changing options or rendering while a render runs */
+  VEACH_ERROR_BAD_INPUT = 3,         /* the scene file or buffer is malformed or unreadable */
+  VEACH_ERROR_OUTPUT = 4,            /* an image could not be written */
+  VEACH_ERROR_CANCELLED = 5,         /* the render was cancelled; its partial image is available */
+  VEACH_ERROR_OUT_OF_MEMORY = 6,
+  VEACH_ERROR_UNKNOWN = 7
+} VeachError;
+
+typedef enum VeachStatus {
+  VEACH_STATUS_IDLE = 0,      /* never rendered */
+  VEACH_STATUS_RUNNING = 1,   /* an asynchronous render is in progress */
+  VEACH_STATUS_DONE = 2,      /* finished: every requested sample (or the time limit) */
+  VEACH_STATUS_CANCELLED = 3, /* stopped early by veachCancelRender or the progress callback */
+  VEACH_STATUS_FAILED = 4     /* the error went to the callback and to veachWaitRender's caller */
+} VeachStatus;
+
+typedef struct VeachDeviceImpl* VeachDevice;
+typedef struct VeachSceneImpl* VeachScene;
+typedef struct VeachRenderImpl* VeachRender;
+
+/* Called on the thread where the error happened (a render's own thread for asynchronous renders). */
+typedef void (*VeachErrorFunction)(void* user, VeachError code, const char* message);
+
+/* Called after each pass of samples with the fraction done in [0, 1] and the estimated seconds
+ * left. Return false to cancel. Called on the rendering thread; do not release the render from it. */
+typedef bool (*VeachProgressFunction)(void* user, double fraction, double eta_seconds);
+
+/* ---- Version and errors ------------------------------------------------------------------- */
+
+/* VEACH_VERSION of the library actually loaded (compare with the header's to detect a mismatch). */
+VEACH_API int veachGetVersion(void);
+VEACH_API const char* veachGetVersionString(void);
+
+/* The message of the last failed call on this thread, "" when it succeeded. Every call that can
+ * fail resets it on entry (retain, release, cancel and these getters do not). The pointer stays
+ * valid until this thread's next API call. */
+VEACH_API const char* veachGetLastError(void);
+VEACH_API VeachError veachGetLastErrorCode(void);
+
+/* ---- Device: the error callback and defaults shared by its scenes and renders ------------- */
+
+VEACH_API VeachDevice veachNewDevice(void);
+VEACH_API void veachRetainDevice(VeachDevice device);
+VEACH_API void veachReleaseDevice(VeachDevice device);
+VEACH_API void veachSetDeviceErrorFunction(VeachDevice device, VeachErrorFunction fn, void* user);
+
+/* ---- Scenes: imported once, immutable, shared by any number of renders -------------------- */
+
+/* Any registered format by extension (.gltf, .glb). NULL on failure (VEACH_ERROR_BAD_INPUT). */
+VEACH_API VeachScene veachNewSceneFromFile(VeachDevice device, const char* path);
+/* A scene held in memory, e.g. a .glb a host produced: `format` is an extension ("glb"); relative
+ * URIs resolve against `base_dir` (may be NULL). The bytes are copied. */
+VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* data, size_t size,
+                                             const char* format, const char* base_dir);
+VEACH_API void veachRetainScene(VeachScene scene);
+VEACH_API void veachReleaseScene(VeachScene scene);
+VEACH_API int veachGetSceneCameraCount(VeachScene scene);
+/* The camera's name (valid while the scene lives), NULL for an index out of range. */
+VEACH_API const char* veachGetSceneCameraName(VeachScene scene, int index);
+
+/* ---- Renders: options, rendering, results ------------------------------------------------- */
+
+VEACH_API VeachRender veachNewRender(VeachScene scene);
+VEACH_API void veachRetainRender(VeachRender render);
+/* Releasing the last reference cancels a running render and waits for it. */
+VEACH_API void veachReleaseRender(VeachRender render);
+
+/* Options (the name decides the type; a wrong type or unknown name is VEACH_ERROR_INVALID_ARGUMENT):
+ *   int:    width (default 1920), height (0 = from the camera's aspect), spp (64), seed (0),
+ *           max_depth (64), threads (0 = all cores), bits (PNG/TIFF: 8 or 16), quality (JPEG),
+ *           half (EXR half floats: 0 or 1), aovs (1: record the depth, normal and albedo passes)
+ *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1), exposure (stops), gamma
+ *   string: integrator ("bdpt", "pt", "lt"), camera (a name or an index, "" = the first),
+ *           filter ("box", "gaussian", "blackman-harris"; Cycles' pixel filters),
+ *           display, view, look (OpenColorIO, for PNG/JPEG/TIFF output)
+ * Results, read-only, through the getters: int result_width, result_height, result_spp;
+ *   float progress, eta_seconds, render_seconds. Every option can be read back too. */
+VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value);
+VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value);
+VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value);
+VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long* value);
+VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double* value);
+
+VEACH_API void veachSetProgressFunction(VeachRender render, VeachProgressFunction fn, void* user);
+
+/* Renders on the calling thread (TBB workers in an arena of `threads`). Returns
+ * VEACH_ERROR_CANCELLED when stopped early; the partial image is still available. */
+VEACH_API VeachError veachRender(VeachRender render);
+/* Starts the same render on a thread of its own and returns at once. */
+VEACH_API VeachError veachRenderAsync(VeachRender render);
+/* Waits up to timeout_ms (negative: forever) and returns the status. A failed render's error is
+ * reported to this caller too (last error). */
+VEACH_API VeachStatus veachWaitRender(VeachRender render, int timeout_ms);
+VEACH_API VeachStatus veachGetRenderStatus(VeachRender render);
+/* Asks a running render to stop; returns at once. The render stops within one 16x16 tile. */
+VEACH_API void veachCancelRender(VeachRender render);
+
+/* Copies a finished (or cancelled) render's pass into `dst`: 4 floats per pixel, row 0 at the top,
+ * rows `row_stride_bytes` apart (0 = result_width * 4 * sizeof(float)); `dst` holds result_height
+ * rows. Passes: "combined" (alias "color"): RGBA scene-linear Rec.709; with aovs = 1 also "depth"
+ * (z, z, z, 1: camera-space Z of the first hit, 1e10 where nothing was hit, as Blender's Z pass),
+ * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1). */
+VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t row_stride_bytes);
+/* Writes the combined pass through the output driver: format from the extension; EXR/HDR
+ * scene-linear, PNG/JPEG/TIFF through the OpenColorIO view. Atomic: never a half-written file. */
+VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VEACH_VEACH_H */

@@ -1,0 +1,28 @@
+// Camera samples with their first-hit AOVs (depth, normal, albedo) for Blender-style render
+// passes. Kept apart from the integrators' transport code: when the film records AOVs, the
+// camera ray of the sample is traced once more to its first hit, which costs one ray per sample
+// only in renders that ask for the passes and leaves the light transport code untouched.
+#pragma once
+
+#include "core/rgb.h"
+#include "film/film.h"
+#include "integrators/render_scene.h"
+
+namespace veach {
+
+// What the camera ray through film position (fx, fy) first hits.
+PixelAovs first_hit_aovs(const RenderScene& rs, float fx, float fy);
+
+// Adds a camera sample placed at (fx, fy) for pixel (x, y), with its AOVs when the film
+// records them.
+inline void add_camera_sample(Film& film, const RenderScene& rs, int x, int y, float fx, float fy,
+                              const Rgb& radiance) {
+    if (!film.wants_aovs()) {
+        film.add_sample(x, y, radiance);
+        return;
+    }
+    const PixelAovs aovs = first_hit_aovs(rs, fx, fy);
+    film.add_sample(x, y, radiance, &aovs);
+}
+
+}  // namespace veach

@@ -1,0 +1,251 @@
+#include "materials/gltf_bsdf.h"
+
+#include "materials/dielectric_transmission.h"
+#include "materials/lambert_diffuse.h"
+#include "materials/sheen_charlie.h"
+
+namespace veach {
+namespace {
+
+Vec3 mirror_z(const Vec3& v) { return {v.x, v.y, -v.z}; }
+
+// Never let a lobe with weight starve entirely: keeps the variance bounded.
+constexpr float k_min_lobe_probability = 0.05f;
+
+}  // namespace
+
+GltfBsdf::GltfBsdf(const ShadingInputs& in, float eta)
+    : m_base(in.base_color), m_alpha(in.alpha), m_eta(eta > 0.0f ? eta : 1.0f) {
+    float metallic = clamp(in.metallic, 0.0f, 1.0f);
+    float t = clamp(in.transmission, 0.0f, 1.0f);
+    m_w_metal = metallic;
+    m_w_opaque = (1.0f - metallic) * (1.0f - t);
+    m_w_trans = (1.0f - metallic) * t;
+    m_delta = m_alpha < k_delta_alpha;
+    m_metal = MicrofacetReflection(m_base, Rgb(1.0f), m_alpha, m_delta);
+    m_specular = MicrofacetReflection(in.dielectric_f0, Rgb(in.dielectric_f90), m_alpha, m_delta);
+    Rgb avg = m_specular.average_albedo();
+    auto norm = [](float base, float e_avg) { return e_avg < 1.0f ? base * k_inv_pi / (1.0f - e_avg) : 0.0f; };
+    m_diffuse_norm = Rgb(norm(m_base.r, avg.r), norm(m_base.g, avg.g), norm(m_base.b, avg.b));
+    m_coat = clamp(in.clearcoat, 0.0f, 1.0f);
+    m_coat_alpha = std::max(in.clearcoat_alpha, k_min_ggx_alpha);
+    m_coat_delta = m_coat_alpha < k_delta_alpha;
+    // Clearcoat: ior 1.5, F0 = ((1.5 - 1) / (1.5 + 1))^2 = 0.04 (the extension's fixed value).
+    m_coat_lobe = MicrofacetReflection(Rgb(0.04f), Rgb(1.0f), m_coat_alpha, m_coat_delta);
+    m_sheen_color = Rgb(std::max(0.0f, in.sheen_color.r), std::max(0.0f, in.sheen_color.g),
+                        std::max(0.0f, in.sheen_color.b));
+    m_sheen_max = std::min(1.0f, m_sheen_color.max());
+    m_sheen_roughness = in.sheen_roughness;
+    m_sheen_alpha = sheen_alpha(in.sheen_roughness);
+    m_black = m_w_metal <= 0.0f && m_w_trans <= 0.0f && m_base.is_black() && in.dielectric_f0.is_black() &&
+              in.dielectric_f90 <= 0.0f && m_coat <= 0.0f && m_sheen_max <= 0.0f;
+}
+
+float GltfBsdf::coat_albedo(float mu) const {
+    if (m_coat <= 0.0f) return 0.0f;
+    if (m_coat_delta) return m_coat * m_coat_lobe.fresnel(mu).r;
+    return m_coat * m_coat_lobe.albedo(ggx_albedo(mu, m_coat_alpha)).r;
+}
+
+float GltfBsdf::sheen_albedo_max(float mu) const {
+    return m_sheen_max > 0.0f ? m_sheen_max * sheen_albedo(mu, m_sheen_roughness) : 0.0f;
+}
+
+float GltfBsdf::base_scale(float mu_o, float mu_i) const {
+    float coat = std::min(1.0f - coat_albedo(mu_o), 1.0f - coat_albedo(mu_i));
+    float sheen = std::min(1.0f - sheen_albedo_max(mu_o), 1.0f - sheen_albedo_max(mu_i));
+    return std::max(0.0f, coat) * std::max(0.0f, sheen);
+}
+
+Rgb GltfBsdf::diffuse_albedo_factor(const GgxAlbedo& e) const {
+    Rgb a = m_specular.albedo(e);
+    return Rgb(std::max(0.0f, 1.0f - a.r), std::max(0.0f, 1.0f - a.g), std::max(0.0f, 1.0f - a.b));
+}
+
+GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const GgxAlbedo& e_o) const {
+    LobeProbabilities p;
+    Rgb metal_single = m_delta ? m_metal.fresnel(mu_o) : m_metal.single_scattering_albedo(e_o);
+    Rgb spec_single = m_delta ? m_specular.fresnel(mu_o) : m_specular.single_scattering_albedo(e_o);
+    p.spec = m_w_metal * metal_single.average() + m_w_opaque * spec_single.average();
+    p.cosine = m_w_metal * m_metal.multiple_scattering_albedo(e_o).average() +
+               m_w_opaque * (m_specular.multiple_scattering_albedo(e_o).average() +
+                             (m_base * diffuse_albedo_factor(e_o)).average());
+    p.trans = m_w_trans;
+    // The layers on top: everything beneath is dimmed by them, the sheen is sampled by the
+    // cosine lobe, the coat by its own visible normals.
+    float coat_o = coat_albedo(mu_o), sheen_o = sheen_albedo_max(mu_o);
+    float beneath = (1.0f - coat_o) * (1.0f - sheen_o);
+    p.spec *= beneath;
+    p.cosine = p.cosine * beneath + (1.0f - coat_o) * sheen_o;
+    p.trans *= beneath;
+    p.coat = coat_o;
+    float total = p.spec + p.cosine + p.trans + p.coat;
+    if (!(total > 0.0f)) return {0.0f, 1.0f, 0.0f, 0.0f};
+    p.spec /= total;
+    p.cosine /= total;
+    p.trans /= total;
+    p.coat /= total;
+    // Floors only for lobes that can carry light at all, then renormalise.
+    bool spec_on = m_w_metal > 0.0f || (m_w_opaque > 0.0f && spec_single.max() > 0.0f);
+    bool cos_on = m_w_opaque > 0.0f || (m_w_metal > 0.0f && !m_delta) || m_sheen_max > 0.0f;
+    if (spec_on) p.spec = std::max(p.spec, k_min_lobe_probability);
+    if (cos_on) p.cosine = std::max(p.cosine, k_min_lobe_probability);
+    if (m_w_trans > 0.0f) p.trans = std::max(p.trans, k_min_lobe_probability);
+    if (!spec_on) p.spec = 0.0f;
+    if (!cos_on) p.cosine = 0.0f;
+    if (m_coat > 0.0f) p.coat = std::max(p.coat, k_min_lobe_probability);
+    total = p.spec + p.cosine + p.trans + p.coat;
+    p.spec /= total;
+    p.cosine /= total;
+    p.trans /= total;
+    p.coat /= total;
+    return p;
+}
+
+// wo.z > 0 here; eta is the relative index below.
+Rgb GltfBsdf::eval_upper(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) const {
+    Rgb f = eval_base(wo, wi, eta, mode);
+    if (m_coat <= 0.0f && m_sheen_max <= 0.0f) return f;
+    f *= base_scale(wo.z, std::fabs(wi.z));
+    if (wi.z > 0.0f) {
+        float coat_scale = std::min(1.0f - coat_albedo(wo.z), 1.0f - coat_albedo(wi.z));
+        if (m_sheen_max > 0.0f) f += m_sheen_color * (sheen_eval(wo, wi, m_sheen_alpha) * coat_scale);
+        if (m_coat > 0.0f && !m_coat_delta) {
+            GgxAlbedo e_o = ggx_albedo(wo.z, m_coat_alpha), e_i = ggx_albedo(wi.z, m_coat_alpha);
+            f += m_coat_lobe.eval(wo, wi, e_o, e_i) * m_coat;
+        }
+    }
+    return f;
+}
+
+Rgb GltfBsdf::eval_base(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) const {
+    if (wi.z > 0.0f) {
+        GgxAlbedo e_o = ggx_albedo(wo.z, m_alpha), e_i = ggx_albedo(wi.z, m_alpha);
+        Rgb f(0.0f);
+        if (m_w_metal > 0.0f) f += m_metal.eval(wo, wi, e_o, e_i) * m_w_metal;
+        if (m_w_opaque > 0.0f) {
+            Rgb diffuse = m_diffuse_norm * diffuse_albedo_factor(e_o) * diffuse_albedo_factor(e_i);
+            f += (m_specular.eval(wo, wi, e_o, e_i) + diffuse) * m_w_opaque;
+        }
+        if (m_w_trans > 0.0f && !m_delta)
+            f += Rgb(dielectric_eval(wo, wi, m_alpha, eta, mode == TransportMode::Radiance).f * m_w_trans);
+        return f;
+    }
+    if (wi.z < 0.0f && m_w_trans > 0.0f && !m_delta)
+        return m_base * (dielectric_eval(wo, wi, m_alpha, eta, mode == TransportMode::Radiance).f * m_w_trans);
+    return Rgb(0.0f);
+}
+
+float GltfBsdf::pdf_upper(const Vec3& wo, const Vec3& wi, float eta) const {
+    LobeProbabilities p = probabilities(wo.z, ggx_albedo(wo.z, m_alpha));
+    float pdf = 0.0f;
+    if (wi.z > 0.0f) {
+        if (p.spec > 0.0f && !m_delta) pdf += p.spec * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_alpha);
+        if (p.cosine > 0.0f) pdf += p.cosine * lambert_pdf_w(wo, wi);
+    }
+    if (p.trans > 0.0f && !m_delta) pdf += p.trans * dielectric_eval(wo, wi, m_alpha, eta, true).pdf_w;
+    if (p.coat > 0.0f && !m_coat_delta && wi.z > 0.0f)
+        pdf += p.coat * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_coat_alpha);
+    return pdf;
+}
+
+// Every smooth reflection lobe sends wo to the same mirror direction, so the sample's weight is
+// the sum of their Fresnel masses over the sum of their probabilities of choosing it.
+void GltfBsdf::mirror_sample(const Vec3& wo, float eta, const LobeProbabilities& p, BsdfSample* out) const {
+    Rgb mass(0.0f);
+    float prob = 0.0f;
+    if (m_coat > 0.0f && m_coat_delta) {
+        mass += m_coat_lobe.fresnel(wo.z) * m_coat;
+        prob += p.coat;
+    }
+    if (m_delta) {
+        float fr = m_w_trans > 0.0f ? fresnel_dielectric(wo.z, eta) : 0.0f;
+        Rgb base = m_metal.fresnel(wo.z) * m_w_metal + m_specular.fresnel(wo.z) * m_w_opaque + Rgb(fr * m_w_trans);
+        mass += base * base_scale(wo.z, wo.z);
+        prob += p.spec + p.trans * fr;
+    }
+    out->wi = Vec3(-wo.x, -wo.y, wo.z);
+    out->weight = prob > 0.0f ? mass / prob : Rgb(0.0f);
+    out->pdf_w = prob;
+    out->delta = true;
+}
+
+Rgb GltfBsdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    if (wo.z > 0.0f) return eval_upper(wo, wi, m_eta, mode);
+    if (wo.z < 0.0f) return eval_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, mode);
+    return Rgb(0.0f);
+}
+
+float GltfBsdf::pdf_w(const Vec3& wo, const Vec3& wi) const {
+    if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta);
+    if (wo.z < 0.0f) return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta);
+    return 0.0f;
+}
+
+bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfSample* out,
+                      TransportMode mode) const {
+    if (wo_in.z == 0.0f) return false;
+    bool flipped = wo_in.z < 0.0f;
+    Vec3 wo = flipped ? mirror_z(wo_in) : wo_in;
+    float eta = flipped ? 1.0f / m_eta : m_eta;
+    LobeProbabilities p = probabilities(wo.z, ggx_albedo(wo.z, m_alpha));
+    Vec3 wi;
+    float u = u_lobe;
+    bool delta_done = false;
+    if (u < p.coat) {
+        if (m_coat_delta) {
+            mirror_sample(wo, eta, p, out);
+            delta_done = true;
+        } else {
+            wi = reflect(wo, ggx_sample_visible_normal(wo, m_coat_alpha, u1, u2));
+            if (wi.z <= 0.0f) return false;
+        }
+    } else if ((u -= p.coat) < p.spec) {
+        if (m_delta) {
+            mirror_sample(wo, eta, p, out);
+            delta_done = true;
+        } else {
+            wi = reflect(wo, ggx_sample_visible_normal(wo, m_alpha, u1, u2));
+            if (wi.z <= 0.0f) return false;  // shadowed: not a transmission, which pdf_upper would assume
+        }
+    } else if ((u -= p.spec) < p.cosine) {
+        wi = lambert_sample(u1, u2);
+    } else {
+        u -= p.cosine;
+        if (!(p.trans > 0.0f)) return false;
+        float u_choice = clamp(u / p.trans, 0.0f, 1.0f);
+        if (m_delta) {
+            float fr = fresnel_dielectric(wo.z, eta);
+            if (u_choice < fr) {
+                mirror_sample(wo, eta, p, out);
+                delta_done = true;
+            } else {
+                if (!refract(wo, Vec3(0, 0, 1), eta, &wi)) return false;
+                float scale = mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
+                // f cos / pdf = w_trans (1 - F) base scale / (p_trans (1 - F)), dimmed by the layers.
+                out->weight = m_base * (m_w_trans * scale * base_scale(wo.z, -wi.z) / p.trans);
+                out->pdf_w = p.trans * (1.0f - fr);
+                out->wi = wi;
+                out->delta = true;
+                delta_done = true;
+            }
+        } else {
+            bool transmitted;
+            if (!dielectric_sample(wo, m_alpha, eta, u_choice, u1, u2, &wi, &transmitted)) return false;
+        }
+    }
+    if (delta_done) {
+        // A delta event filled *out in the (possibly mirrored) local frame; map it back.
+        if (flipped) out->wi = mirror_z(out->wi);
+        return true;
+    }
+    if (wi.z == 0.0f) return false;
+    out->delta = false;
+    out->pdf_w = pdf_upper(wo, wi, eta);
+    if (!(out->pdf_w > 0.0f)) return false;
+    out->weight = eval_upper(wo, wi, eta, mode) * (std::fabs(wi.z) / out->pdf_w);
+    out->wi = flipped ? mirror_z(wi) : wi;
+    return true;
+}
+
+}  // namespace veach

@@ -1,0 +1,33 @@
+// Reading images from files through OpenImageIO, for what stb cannot read (EXR, HDR, TIFF, ...)
+// and for environment maps. OpenImageIO's types stay inside image_reader.cpp.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace veach {
+
+class ImageReadError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;  // "FILE: what is wrong", one line
+};
+
+struct ImageData {
+    int width = 0, height = 0;
+    std::vector<float> rgba;  // width * height * 4, row 0 at the top
+    bool srgb_encoded = false;  // the file stores sRGB-encoded values (8-bit PNG/JPEG, ...)
+};
+
+// Reads the first subimage as float RGBA: grey becomes RGB, missing alpha is 1. Values are as
+// stored (srgb_encoded tells whether they need decoding). Throws ImageReadError.
+ImageData read_image(const std::string& path);
+
+// The same from encoded bytes in memory (an image inside a .glb or a data: URI); `name` is for
+// messages, and its extension, when it has one, tells OpenImageIO the format.
+ImageData read_image_memory(const unsigned char* data, size_t size, const std::string& name);
+
+// Reads an image as scene-linear RGBA: sRGB-encoded files are decoded. Throws ImageReadError.
+ImageData read_image_linear(const std::string& path);
+
+}  // namespace veach

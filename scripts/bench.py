@@ -1,0 +1,251 @@
+#!/usr/bin/python3
+"""bench.py --build DIR [--budgets 2,4,8] [--scenes a,b] [--no-cycles] [--markdown docs/BENCHMARKS.md]
+
+Time against error, measured side by side in one run on this machine:
+  - for every scene in ../shared/scenes, `veach render --time T` with pt and bdpt at each budget:
+    relMSE against the Cycles reference (../shared/tools/compare.py), efficiency
+    1/(relMSE x seconds), samples/s and rays/s;
+  - the ray-tracing limit: incoherent closest-hit rays/s that Embree alone traces through the same
+    BVH on all threads (veach_ray_bench), and the renderer's rays/s as a fraction of it;
+  - Cycles at equal render time when Blender is installed (the settings of
+    ../shared/tools/blender_make.py with a render time limit), and our efficiency over Cycles';
+  - 2 threads against 1 thread (samples/s, pt, cornell).
+Writes the tables into the markdown file between the BENCH markers and log-log plots of relMSE
+against time next to it (docs/bench/NAME.png, with gnuplot). Ratios are the headline numbers:
+absolute seconds depend on the machine and its load."""
+import argparse, json, math, os, shutil, subprocess, sys, tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHARED = os.path.join(os.path.dirname(ROOT), "shared")
+sys.path.insert(0, os.path.join(SHARED, "tools"))
+import compare  # noqa: E402
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+ap.add_argument("--budgets", default="2,4,8")
+ap.add_argument("--scenes", default="cornell,textured,lights,spheres,corridor")
+ap.add_argument("--integrators", default="pt,bdpt")
+ap.add_argument("--no-cycles", action="store_true")
+ap.add_argument("--markdown", default=os.path.join(ROOT, "docs", "BENCHMARKS.md"))
+args = ap.parse_args()
+budgets = [float(b) for b in args.budgets.split(",")]
+veach = os.path.join(args.build, "veach")
+ray_bench = os.path.join(args.build, "tests", "veach_ray_bench")
+tmp = tempfile.mkdtemp(prefix="veach-bench-")
+
+CYCLES_SCRIPT = r'''
+import bpy, sys, os, time
+sys.path.insert(0, os.environ["VEACH_SHARED_TOOLS"])
+import blender_scenes as scenes
+out, seconds = os.environ["VEACH_OUT"], float(os.environ["VEACH_SECONDS"])
+scenes.lambertize()
+sc = bpy.context.scene
+c = sc.cycles
+sc.render.engine = 'CYCLES'
+c.device = 'CPU'
+c.samples = 1 << 24
+c.time_limit = seconds
+c.use_adaptive_sampling = False
+c.use_denoising = False
+c.seed = 1
+for k in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "transparent_max_bounces"):
+    setattr(c, k, 64)
+c.min_light_bounces = 0
+c.sample_clamp_direct = 0.0
+c.sample_clamp_indirect = 0.0
+c.blur_glossy = 0.0
+c.caustics_reflective = True
+c.caustics_refractive = True
+c.light_sampling_threshold = 0.0
+c.pixel_filter_type = 'BOX'
+c.filter_width = 1.0
+sc.render.threads_mode = 'AUTO'
+sc.view_settings.view_transform = 'Standard'
+sc.render.image_settings.file_format = 'OPEN_EXR'
+sc.render.image_settings.color_depth = '32'
+sc.render.filepath = out
+t = time.time()
+bpy.ops.render.render(write_still=True)
+print("VEACH_CYCLES_SECONDS", time.time() - t)
+'''
+
+
+def run(cmd, env=None):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True, env=env)
+
+
+def relmse(path, ref):
+    return compare.compare(compare.load(path), compare.load(ref))["relmse"]
+
+
+def render_veach(scene, integrator, seconds, threads=0, spp=1 << 24, sampler="sobol"):
+    meta = json.load(open(os.path.join(SHARED, "scenes", scene, scene + ".cycles.json")))
+    out = os.path.join(tmp, "%s_%s_%g.exr" % (scene, integrator, seconds))
+    stats = out + ".json"
+    run([veach, "render", os.path.join(SHARED, "scenes", scene, scene + ".gltf"), "-o", out, "--width",
+         str(meta["width"]), "--height", str(meta["height"]), "--spp", str(spp), "--time", str(seconds),
+         "--integrator", integrator, "--threads", str(threads), "--sampler", sampler, "--quiet",
+         "--stats-json", stats])
+    s = json.load(open(stats))
+    ref = os.path.join(SHARED, "scenes", scene, scene + ".cycles.exr")
+    e = relmse(out, ref)
+    t = s["seconds"]["render"]
+    return {"seconds": t, "relmse": e, "efficiency": 1.0 / (e * t), "spp": s["spp"],
+            "samples_per_second": s["samples_per_second"], "rays_per_second": s["rays_per_second"]}
+
+
+def render_cycles(scene, seconds):
+    out = os.path.join(tmp, "%s_cycles_%g.exr" % (scene, seconds))
+    env = dict(os.environ, VEACH_SHARED_TOOLS=os.path.join(SHARED, "tools"), VEACH_OUT=out,
+               VEACH_SECONDS=str(seconds))
+    script = os.path.join(tmp, "cycles_bench.py")
+    open(script, "w").write(CYCLES_SCRIPT)
+    p = run(["blender", "-b", os.path.join(SHARED, "scenes", scene, scene + ".blend"), "--factory-startup",
+             "-P", script], env=env)
+    t = float([l for l in p.stdout.splitlines() if l.startswith("VEACH_CYCLES_SECONDS")][0].split()[1])
+    e = relmse(out, os.path.join(SHARED, "scenes", scene, scene + ".cycles.exr"))
+    return {"seconds": t, "relmse": e, "efficiency": 1.0 / (e * t)}
+
+
+def ray_limit(scene):
+    p = run([ray_bench, os.path.join(SHARED, "scenes", scene, scene + ".gltf"), "--seconds", "2"])
+    return json.loads(p.stdout)["rays_per_second"]
+
+
+have_cycles = not args.no_cycles and shutil.which("blender") is not None
+results = {}
+for scene in args.scenes.split(","):
+    r = {"limit": ray_limit(scene), "runs": {}}
+    for integ in args.integrators.split(","):
+        r["runs"][integ] = [render_veach(scene, integ, b) for b in budgets]
+        print(scene, integ, ["%.4g" % x["relmse"] for x in r["runs"][integ]], file=sys.stderr)
+    if have_cycles:
+        r["runs"]["cycles"] = [render_cycles(scene, b) for b in budgets]
+        print(scene, "cycles", ["%.4g" % x["relmse"] for x in r["runs"]["cycles"]], file=sys.stderr)
+    results[scene] = r
+
+# Thread scaling: the same fixed work on 1 and 2 threads.
+scaling = {}
+for threads in (1, 2):
+    x = render_veach("cornell", "pt", 1e9, threads=threads, spp=32)
+    scaling[threads] = x["samples_per_second"]
+
+# Low-discrepancy sampling: relMSE at equal spp, Owen-scrambled Sobol against independent numbers.
+sampler_rows = []
+for scene in ("cornell", "corridor"):
+    for integ in ("pt", "bdpt"):
+        e = {smp: render_veach(scene, integ, 1e9, spp=16, sampler=smp)["relmse"] for smp in ("random", "sobol")}
+        sampler_rows.append("| %s | %s | %.4g | %.4g | %.2f |" % (scene, integ, e["random"], e["sobol"],
+                                                              e["random"] / e["sobol"]))
+
+# Skipping what a scene does not use: cornell with twenty unused 4K textures loads and renders
+# in the same time as cornell (textures are decoded only when a rendered material uses them).
+def unused_textures_scene():
+    import numpy as np
+    import OpenImageIO as oiio
+    d = os.path.join(tmp, "unused")
+    os.makedirs(d, exist_ok=True)
+    g = json.load(open(os.path.join(SHARED, "scenes", "cornell", "cornell.gltf")))
+    shutil.copy(os.path.join(SHARED, "scenes", "cornell", "cornell.bin"), d)
+    ramp = np.tile(np.linspace(0, 1, 4096, dtype=np.float32), (4096, 1))
+    px = np.stack([ramp, ramp.T, 0.5 * np.ones_like(ramp)], axis=-1)
+    g.setdefault("images", [])
+    g.setdefault("textures", [])
+    for i in range(20):
+        name = "unused%02d.png" % i
+        out = oiio.ImageOutput.create(name)
+        out.open(os.path.join(d, name), oiio.ImageSpec(4096, 4096, 3, oiio.UINT8))
+        out.write_image(px)
+        out.close()
+        g["images"].append({"uri": name})
+        g["textures"].append({"source": len(g["images"]) - 1})
+    path = os.path.join(d, "cornell_unused.gltf")
+    json.dump(g, open(path, "w"))
+    return path
+
+
+def load_and_render(path):
+    stats = os.path.join(tmp, "lr.json")
+    best = None
+    for _ in range(3):
+        run([veach, "render", path, "-o", os.path.join(tmp, "lr.exr"), "--width", "128", "--height", "128",
+             "--spp", "16", "--integrator", "pt", "--quiet", "--stats-json", stats])
+        sec = json.load(open(stats))["seconds"]
+        t = (sec["load"], sec["load"] + sec["build"] + sec["render"])
+        best = t if best is None or t[1] < best[1] else best
+    return best
+
+
+plain = load_and_render(os.path.join(SHARED, "scenes", "cornell", "cornell.gltf"))
+unused = load_and_render(unused_textures_scene())
+
+lines = []
+lines.append("Machine: %d cores; budgets %s s; %s." % (
+    os.cpu_count(), ", ".join("%g" % b for b in budgets),
+    "Cycles %s" % ("CPU, same settings as the references, render time limit" if have_cycles else "not installed")))
+lines.append("")
+lines.append("| scene | integrator | budget s | render s | spp | relMSE | efficiency | vs Cycles | samples/s | rays/s | of Embree limit |")
+lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
+for scene, r in results.items():
+    for integ, runs in r["runs"].items():
+        for b, x in zip(budgets, runs):
+            vs = ""
+            if have_cycles and integ != "cycles":
+                c = r["runs"]["cycles"][budgets.index(b)]
+                vs = "%.2fx" % (x["efficiency"] / c["efficiency"])
+            sps = "%.3g" % x["samples_per_second"] if "samples_per_second" in x else ""
+            rps = "%.3g" % x["rays_per_second"] if "rays_per_second" in x else ""
+            frac = "%.0f%%" % (100 * x["rays_per_second"] / r["limit"]) if "rays_per_second" in x else ""
+            lines.append("| %s | %s | %g | %.2f | %s | %.4g | %.4g | %s | %s | %s | %s |" % (
+                scene, integ, b, x["seconds"], x.get("spp", ""), x["relmse"], x["efficiency"], vs, sps, rps, frac))
+lines.append("")
+lines.append("Embree limit (incoherent rays/s, all threads): " + ", ".join(
+    "%s %.3g" % (s, r["limit"]) for s, r in results.items()) + ".")
+lines.append("")
+summary = []
+for scene, r in results.items():
+    if "bdpt" in r["runs"] and "pt" in r["runs"]:
+        ratio = [p["relmse"] / b["relmse"] for p, b in zip(r["runs"]["pt"], r["runs"]["bdpt"])]
+        eff = [b["efficiency"] / p["efficiency"] for p, b in zip(r["runs"]["pt"], r["runs"]["bdpt"])]
+        summary.append("| %s | %s | %s |" % (scene, " / ".join("%.2f" % v for v in ratio),
+                                              " / ".join("%.2f" % v for v in eff)))
+lines.append("| scene | relMSE pt / bdpt at equal time (per budget) | efficiency bdpt / pt |")
+lines.append("|---|---|---|")
+lines += summary
+lines.append("")
+lines.append("Thread scaling (pt, cornell, samples/s): 2 threads / 1 thread = %.2fx." % (scaling[2] / scaling[1]))
+lines.append("")
+lines.append("Cornell with twenty unused 4096x4096 textures (best of 3, load / load+render seconds): "
+             "%.3f / %.3f against plain cornell %.3f / %.3f." % (unused[0], unused[1], plain[0], plain[1]))
+lines.append("")
+lines.append("| scene | integrator | relMSE random, 16 spp | relMSE sobol, 16 spp | random / sobol |")
+lines.append("|---|---|---|---|---|")
+lines += sampler_rows
+table = "\n".join(lines)
+print(table)
+
+# Plots: relMSE against render time, log-log, one PNG per scene.
+plot_dir = os.path.join(os.path.dirname(args.markdown), "bench")
+if shutil.which("gnuplot"):
+    os.makedirs(plot_dir, exist_ok=True)
+    for scene, r in results.items():
+        data = os.path.join(tmp, scene + ".dat")
+        with open(data, "w") as f:
+            for integ, runs in r["runs"].items():
+                f.write("# %s\n" % integ)
+                for x in runs:
+                    f.write("%g %g\n" % (x["seconds"], x["relmse"]))
+                f.write("\n\n")
+        names = list(r["runs"].keys())
+        plot = ", ".join("'%s' index %d with linespoints title '%s'" % (data, i, n) for i, n in enumerate(names))
+        gp = ("set terminal png size 480,360; set output '%s'; set logscale xy; set xlabel 'render seconds'; "
+              "set ylabel 'relMSE'; set title '%s'; plot %s" % (os.path.join(plot_dir, scene + ".png"), scene, plot))
+        subprocess.run(["gnuplot", "-e", gp], check=False)
+
+if args.markdown and os.path.exists(args.markdown):
+    text = open(args.markdown).read()
+    begin, end = "<!-- BENCH:BEGIN -->", "<!-- BENCH:END -->"
+    if begin in text and end in text:
+        text = text[: text.index(begin) + len(begin)] + "\n" + table + "\n" + text[text.index(end):]
+        open(args.markdown, "w").write(text)
+shutil.rmtree(tmp, ignore_errors=True)

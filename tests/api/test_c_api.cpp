@@ -1,0 +1,363 @@
+// The C API's contract, tested through libveach.so and nothing else (this executable links only
+// the shared library, so it also proves the exported symbol set is complete):
+// - errors come back as codes, through the device callback and the per-thread last error, never
+//   as a crash or an exception;
+// - a render through the API equals itself whatever the path (sync, async, in memory, with a
+//   padded stride, alongside another render): randomness is keyed by (seed, pixel, sample), so
+//   the path tracer's images must be bit-identical;
+// - cancel stops a render promptly (the latency is measured and printed; the bound asserted is a
+//   generous 2 s so that a loaded machine cannot make it flake).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "veach/veach.h"
+#include "veach/veach.hpp"
+
+namespace {
+
+const std::string k_cornell = std::string(VEACH_EXAMPLES_DIR) + "/cornell/cornell.gltf";
+
+struct ErrorLog {
+    std::atomic<int> calls{0};
+    VeachError last_code = VEACH_ERROR_NONE;
+    std::string last_message;
+};
+
+void record_error(void* user, VeachError code, const char* message) {
+    auto* log = static_cast<ErrorLog*>(user);
+    log->last_code = code;
+    log->last_message = message;
+    ++log->calls;
+}
+
+class CApi : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_device = veachNewDevice();
+        ASSERT_NE(m_device, nullptr);
+        veachSetDeviceErrorFunction(m_device, record_error, &m_errors);
+    }
+    void TearDown() override { veachReleaseDevice(m_device); }
+
+    // A small render of the Cornell box: the path tracer, a fixed seed.
+    VeachRender new_cornell_render(VeachScene scene, int spp = 4, long long seed = 7) {
+        VeachRender r = veachNewRender(scene);
+        EXPECT_EQ(veachSetInt(r, "width", 48), VEACH_ERROR_NONE);
+        EXPECT_EQ(veachSetInt(r, "height", 48), VEACH_ERROR_NONE);
+        EXPECT_EQ(veachSetInt(r, "spp", spp), VEACH_ERROR_NONE);
+        EXPECT_EQ(veachSetInt(r, "seed", seed), VEACH_ERROR_NONE);
+        EXPECT_EQ(veachSetString(r, "integrator", "pt"), VEACH_ERROR_NONE);
+        return r;
+    }
+
+    static std::vector<float> combined(VeachRender r) {
+        long long w = 0, h = 0;
+        veachGetInt(r, "result_width", &w);
+        veachGetInt(r, "result_height", &h);
+        std::vector<float> px(static_cast<size_t>(w * h * 4));
+        EXPECT_EQ(veachGetPass(r, "combined", px.data(), 0), VEACH_ERROR_NONE) << veachGetLastError();
+        return px;
+    }
+
+    static double mean_rgb(const std::vector<float>& rgba) {
+        double sum = 0;
+        for (size_t i = 0; i < rgba.size(); i += 4) sum += rgba[i] + rgba[i + 1] + rgba[i + 2];
+        return sum / (3.0 * static_cast<double>(rgba.size() / 4));
+    }
+
+    VeachDevice m_device = nullptr;
+    ErrorLog m_errors;
+};
+
+TEST(CApiVersion, LibraryMatchesHeader) {
+    // A host compiled against one header and run with another library must be able to tell.
+    EXPECT_EQ(veachGetVersion(), VEACH_VERSION);
+    char expected[32];
+    std::snprintf(expected, sizeof(expected), "%d.%d.%d", VEACH_VERSION_MAJOR, VEACH_VERSION_MINOR,
+                  VEACH_VERSION_PATCH);
+    EXPECT_STREQ(veachGetVersionString(), expected);
+}
+
+TEST_F(CApi, MissingFileIsReportedThroughCallbackAndLastError) {
+    VeachScene s = veachNewSceneFromFile(m_device, "/nonexistent/scene.gltf");
+    EXPECT_EQ(s, nullptr);
+    EXPECT_EQ(m_errors.calls, 1);
+    EXPECT_EQ(m_errors.last_code, VEACH_ERROR_BAD_INPUT);
+    EXPECT_NE(m_errors.last_message.find("/nonexistent/scene.gltf"), std::string::npos) << m_errors.last_message;
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_BAD_INPUT);
+    EXPECT_EQ(m_errors.last_message, veachGetLastError());
+    // The next successful call clears the last error.
+    EXPECT_EQ(veachGetSceneCameraCount(nullptr), -1);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_INVALID_ARGUMENT);
+    veachGetVersionString();
+    EXPECT_NE(std::string(veachGetLastError()), "");  // getters of the error do not reset it
+}
+
+TEST_F(CApi, MalformedSceneIsAnErrorNotACrash) {
+    VeachScene s = veachNewSceneFromFile(m_device, VEACH_TEST_DATA_DIR "/gltf/bad_json.gltf");
+    EXPECT_EQ(s, nullptr);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_BAD_INPUT);
+    EXPECT_NE(std::string(veachGetLastError()).find("bad_json.gltf"), std::string::npos) << veachGetLastError();
+
+    // Garbage claiming to be a .glb in memory.
+    const char garbage[] = "glTF\x02\0\0\0garbage that is not a binary glTF container";
+    s = veachNewSceneFromMemory(m_device, garbage, sizeof(garbage), "glb", nullptr);
+    EXPECT_EQ(s, nullptr);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_BAD_INPUT);
+    EXPECT_EQ(m_errors.calls, 2);
+}
+
+TEST_F(CApi, NullHandlesAndBadOptionsAreErrors) {
+    EXPECT_EQ(veachNewRender(nullptr), nullptr);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(veachRender(nullptr), VEACH_ERROR_INVALID_ARGUMENT);
+    veachReleaseRender(nullptr);  // like free(NULL): nothing
+
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr) << veachGetLastError();
+    VeachRender r = veachNewRender(s);
+    EXPECT_EQ(veachSetInt(r, "no_such_option", 1), VEACH_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(veachGetLastError()).find("no_such_option"), std::string::npos);
+    EXPECT_EQ(veachSetFloat(r, "spp", 2.0), VEACH_ERROR_INVALID_ARGUMENT);  // spp is an int
+    EXPECT_NE(std::string(veachGetLastError()).find("is an int"), std::string::npos) << veachGetLastError();
+    EXPECT_EQ(veachSetInt(r, "spp", 0), VEACH_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(veachSetString(r, "integrator", "magic"), VEACH_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(veachGetLastError()).find("pt"), std::string::npos);  // names the known ones
+    EXPECT_EQ(veachSetString(r, "camera", "nope"), VEACH_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(veachSetInt(r, "result_width", 3), VEACH_ERROR_INVALID_ARGUMENT);  // read-only
+    EXPECT_EQ(veachSetFloat(r, "time_limit", -1), VEACH_ERROR_INVALID_ARGUMENT);
+    std::vector<float> px(16);
+    EXPECT_EQ(veachGetPass(r, "combined", px.data(), 0), VEACH_ERROR_INVALID_OPERATION);  // nothing rendered
+    EXPECT_EQ(m_errors.calls, 8);
+    long long spp = 0;
+    EXPECT_EQ(veachGetInt(r, "spp", &spp), VEACH_ERROR_NONE);
+    EXPECT_EQ(spp, 64);  // the failed sets left the default alone
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, RenderReportsProgressAndCopiesPassesWithStride) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr) << veachGetLastError();
+    EXPECT_GE(veachGetSceneCameraCount(s), 1);
+    VeachRender r = new_cornell_render(s, 8);
+    std::vector<double> fractions;
+    veachSetProgressFunction(
+        r,
+        [](void* user, double fraction, double eta) {
+            static_cast<std::vector<double>*>(user)->push_back(fraction);
+            return eta >= 0;
+        },
+        &fractions);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_EQ(veachGetRenderStatus(r), VEACH_STATUS_DONE);
+    ASSERT_FALSE(fractions.empty());
+    for (size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
+    EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+    long long spp_done = 0;
+    veachGetInt(r, "result_spp", &spp_done);
+    EXPECT_EQ(spp_done, 8);
+
+    std::vector<float> tight = combined(r);
+    double mean = mean_rgb(tight);
+    EXPECT_GT(mean, 0.01);  // a lit box: the light and the walls it lights are in view
+    EXPECT_LT(mean, 10.0);
+    // A padded stride (e.g. a host's image with alignment) holds exactly the same rows.
+    const size_t row_floats = 48 * 4, stride_floats = row_floats + 12;
+    std::vector<float> padded(stride_floats * 48, -1.0f);
+    ASSERT_EQ(veachGetPass(r, "combined", padded.data(), stride_floats * sizeof(float)), VEACH_ERROR_NONE);
+    for (size_t y = 0; y < 48; ++y) {
+        EXPECT_TRUE(std::equal(tight.begin() + y * row_floats, tight.begin() + (y + 1) * row_floats,
+                               padded.begin() + y * stride_floats));
+        EXPECT_EQ(padded[y * stride_floats + row_floats], -1.0f);  // the padding is untouched
+    }
+    EXPECT_EQ(veachGetPass(r, "combined", padded.data(), 16), VEACH_ERROR_INVALID_ARGUMENT);  // stride < row
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, DepthPassWhenAovsRequested) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    VeachRender r = new_cornell_render(s, 2);
+    std::vector<float> depth(48 * 48 * 4);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachGetPass(r, "depth", depth.data(), 0), VEACH_ERROR_INVALID_OPERATION);  // not recorded
+    ASSERT_EQ(veachSetInt(r, "aovs", 1), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachGetPass(r, "depth", depth.data(), 0), VEACH_ERROR_NONE) << veachGetLastError();
+    // Inside a closed box every camera ray hits something in front of the camera.
+    size_t center = (24 * 48 + 24) * 4;
+    EXPECT_GT(depth[center], 0.0f);
+    EXPECT_LT(depth[center], 1e9f);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, SceneFromMemoryRendersLikeTheFile) {
+    std::ifstream f(k_cornell, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(bytes.empty());
+    VeachScene from_memory = veachNewSceneFromMemory(m_device, bytes.data(), bytes.size(), "gltf",
+                                                     VEACH_EXAMPLES_DIR "/cornell");
+    ASSERT_NE(from_memory, nullptr) << veachGetLastError();
+    VeachScene from_file = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    VeachRender a = new_cornell_render(from_memory), b = new_cornell_render(from_file);
+    ASSERT_EQ(veachRender(a), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachRender(b), VEACH_ERROR_NONE);
+    EXPECT_EQ(combined(a), combined(b));
+    for (VeachRender r : {a, b}) veachReleaseRender(r);
+    veachReleaseScene(from_memory);
+    veachReleaseScene(from_file);
+}
+
+TEST_F(CApi, ConcurrentRendersEqualRendersAlone) {
+    // Two scenes, two renders at once in one process, with different thread counts and seeds:
+    // no state is shared, so each image is bit-identical to the same render done alone.
+    VeachScene s1 = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    VeachScene s2 = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_TRUE(s1 && s2);
+    VeachRender alone1 = new_cornell_render(s1, 8, 1), alone2 = new_cornell_render(s2, 8, 2);
+    veachSetInt(alone1, "threads", 1);
+    veachSetInt(alone2, "threads", 2);
+    ASSERT_EQ(veachRender(alone1), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachRender(alone2), VEACH_ERROR_NONE);
+
+    VeachRender both1 = new_cornell_render(s1, 8, 1), both2 = new_cornell_render(s2, 8, 2);
+    veachSetInt(both1, "threads", 2);
+    veachSetInt(both2, "threads", 1);
+    ASSERT_EQ(veachRenderAsync(both1), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachRenderAsync(both2), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachSetInt(both1, "spp", 3), VEACH_ERROR_INVALID_OPERATION);  // running: options frozen
+    EXPECT_EQ(veachRender(both2), VEACH_ERROR_INVALID_OPERATION);
+    EXPECT_EQ(veachWaitRender(both1, -1), VEACH_STATUS_DONE);
+    EXPECT_EQ(veachWaitRender(both2, -1), VEACH_STATUS_DONE);
+
+    EXPECT_EQ(combined(both1), combined(alone1));
+    EXPECT_EQ(combined(both2), combined(alone2));
+    EXPECT_NE(combined(alone1), combined(alone2));  // the seeds differ: the comparison can fail
+    for (VeachRender r : {alone1, alone2, both1, both2}) veachReleaseRender(r);
+    veachReleaseScene(s1);
+    veachReleaseScene(s2);
+}
+
+TEST_F(CApi, CancelFromAnotherThreadStopsPromptly) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    VeachRender r = new_cornell_render(s, 1 << 20);
+    veachSetInt(r, "width", 160);
+    veachSetInt(r, "height", 160);
+
+    // Asynchronous: cancel once the first pass is done (the BVH is built, tiles are running).
+    ASSERT_EQ(veachRenderAsync(r), VEACH_ERROR_NONE);
+    for (int i = 0; i < 2000; ++i) {
+        double progress = 0;
+        veachGetFloat(r, "progress", &progress);
+        if (progress > 0) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_EQ(veachWaitRender(r, 0), VEACH_STATUS_RUNNING);
+    auto t0 = std::chrono::steady_clock::now();
+    veachCancelRender(r);
+    VeachStatus status = veachWaitRender(r, -1);
+    double latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(status, VEACH_STATUS_CANCELLED);
+    EXPECT_LT(latency_ms, 2000.0);
+    std::printf("[ measure  ] async cancel latency: %.1f ms\n", latency_ms);
+    RecordProperty("async_cancel_latency_ms", static_cast<int>(latency_ms));
+    long long spp_done = -1;
+    veachGetInt(r, "result_spp", &spp_done);
+    EXPECT_GE(spp_done, 1);
+    EXPECT_LT(spp_done, 1 << 20);
+    EXPECT_GT(mean_rgb(combined(r)), 0.0);  // the partial image is there
+
+    // Synchronous render cancelled from another thread: the call itself returns.
+    std::atomic<bool> started{false};
+    veachSetProgressFunction(
+        r, [](void* user, double, double) { return static_cast<std::atomic<bool>*>(user)->exchange(true), true; },
+        &started);
+    std::chrono::steady_clock::time_point cancelled_at;
+    std::thread canceller([&] {
+        while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        cancelled_at = std::chrono::steady_clock::now();
+        veachCancelRender(r);
+    });
+    VeachError e = veachRender(r);
+    auto returned_at = std::chrono::steady_clock::now();
+    canceller.join();
+    EXPECT_EQ(e, VEACH_ERROR_CANCELLED);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_CANCELLED);
+    EXPECT_EQ(veachGetRenderStatus(r), VEACH_STATUS_CANCELLED);
+    latency_ms = std::chrono::duration<double, std::milli>(returned_at - cancelled_at).count();
+    EXPECT_LT(latency_ms, 2000.0);
+    std::printf("[ measure  ] sync cancel latency: %.1f ms\n", latency_ms);
+    RecordProperty("sync_cancel_latency_ms", static_cast<int>(latency_ms));
+
+    // Releasing a running render cancels and joins it (no leak, no crash).
+    ASSERT_EQ(veachRenderAsync(r), VEACH_ERROR_NONE);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, ProgressCallbackReturningFalseCancels) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    VeachRender r = new_cornell_render(s, 1000);
+    veachSetProgressFunction(r, [](void*, double, double) { return false; }, nullptr);
+    EXPECT_EQ(veachRender(r), VEACH_ERROR_CANCELLED);
+    long long spp_done = 0;
+    veachGetInt(r, "result_spp", &spp_done);
+    EXPECT_LT(spp_done, 1000);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, WriteImageIsAtomicAndReportsFailures) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    VeachRender r = new_cornell_render(s, 2);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    auto dir = std::filesystem::temp_directory_path() / ("veach_capi_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    auto exr = dir / "out.exr";
+    EXPECT_EQ(veachWriteImage(r, exr.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_GT(std::filesystem::file_size(exr), 1000u);
+    EXPECT_EQ(veachWriteImage(r, (dir / "missing" / "out.png").c_str()), VEACH_ERROR_OUTPUT);
+    EXPECT_EQ(m_errors.last_code, VEACH_ERROR_OUTPUT);
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing" / "out.png"));
+    std::filesystem::remove_all(dir);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST(CppWrapper, ThrowsWithTheLibrarysCodeAndRenders) {
+    veach::Device device;
+    try {
+        veach::Scene missing(device, "/nonexistent.glb");
+        FAIL() << "no exception";
+    } catch (const veach::Error& e) {
+        EXPECT_EQ(e.code(), VEACH_ERROR_BAD_INPUT);
+        EXPECT_NE(std::string(e.what()).find("/nonexistent.glb"), std::string::npos);
+    }
+    veach::Scene scene(device, k_cornell);
+    veach::Render render(scene);
+    render.set("width", 32).set("height", 32).set("spp", 2).set("integrator", "pt");
+    EXPECT_THROW(render.set("integrator", "nope"), veach::Error);
+    int calls = 0;
+    render.on_progress([&](double, double) { return ++calls > 0; });
+    EXPECT_TRUE(render.render());
+    EXPECT_GT(calls, 0);
+    std::vector<float> px = render.pass();
+    EXPECT_EQ(px.size(), 32u * 32u * 4u);
+    EXPECT_EQ(render.width(), 32);
+}
+
+}  // namespace
