@@ -27,7 +27,7 @@ build: configure
 
 render: build
 	@mkdir -p out
-	$(BUILD_DIR)/veach render examples/cornell/cornell.gltf -o out/cornell.exr -o out/cornell.png --width 512 --spp 256
+	$(BUILD_DIR)/veach render examples/cornell/cornell.gltf -o out/cornell.exr -o out/cornell.png --width 512 --spp 64
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

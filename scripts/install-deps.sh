@@ -17,7 +17,7 @@ packages=(
   assimp-testmodels
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(blender gnuplot)
+  packages+=(blender gnuplot-nox)
 fi
 if [[ "${1:-}" == "--fuzz" ]]; then
   packages+=(clang-14 libclang-rt-14-dev)

@@ -110,6 +110,22 @@ Rgb LightSet::triangle_radiance(const TriangleLight& tl, const Vec3& w, const Rg
     return Rgb(0.0f);
 }
 
+Rgb LightSet::emitted_radiance(const TriangleLight& tl, Vec2 b) const {
+    if (!tl.textured) return tl.radiance;
+    // The emissive texture at barycentrics (b1, b2) of the triangle.
+    const Mesh& mesh = m_scene.meshes[m_scene.instances[tl.instance].mesh];
+    const uint32_t* idx = &mesh.indices[static_cast<size_t>(tl.prim) * 3];
+    SurfaceAttributes attr;
+    float b0 = 1.0f - b.x - b.y;
+    for (int set = 0; set < 2; ++set) {
+        const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
+        if (uv.empty()) continue;
+        attr.uv[set] = {b0 * uv[idx[0]].x + b.x * uv[idx[1]].x + b.y * uv[idx[2]].x,
+                        b0 * uv[idx[0]].y + b.x * uv[idx[1]].y + b.y * uv[idx[2]].y};
+    }
+    return evaluate_emission(m_scene.material_of(mesh), m_scene, attr);
+}
+
 bool LightSet::sample_direct(const Vec3& receiver, float u_select, float u1, float u2, LightSample* out) const {
     float pmf;
     size_t index = m_select.sample(u_select, &pmf);
@@ -126,21 +142,7 @@ bool LightSet::sample_direct(const Vec3& receiver, float u_select, float u1, flo
         Vec3 wi = d / dist;
         float cos_light = -dot(wi, tl->n);
         if (!(cos_light > 0.0f) && !(tl->two_sided && cos_light < 0.0f)) return false;
-        Rgb emitted = tl->radiance;
-        if (tl->textured) {
-            const Instance& inst = m_scene.instances[tl->instance];
-            const Mesh& mesh = m_scene.meshes[inst.mesh];
-            const uint32_t* idx = &mesh.indices[static_cast<size_t>(tl->prim) * 3];
-            SurfaceAttributes attr;
-            float b0 = 1.0f - b.x - b.y;
-            for (int set = 0; set < 2; ++set) {
-                const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
-                if (uv.empty()) continue;
-                attr.uv[set] = {b0 * uv[idx[0]].x + b.x * uv[idx[1]].x + b.y * uv[idx[2]].x,
-                                b0 * uv[idx[0]].y + b.x * uv[idx[1]].y + b.y * uv[idx[2]].y};
-            }
-            emitted = evaluate_emission(m_scene.material_of(mesh), m_scene, attr);
-        }
+        Rgb emitted = emitted_radiance(*tl, b);
         out->radiance = emitted;
         out->wi = wi;
         out->point = p;
@@ -234,21 +236,7 @@ bool LightSet::sample_emission(float u_select, float u1, float u2, float u3, flo
         Vec3 local = sample_cosine_hemisphere(u3, u4);
         out->dir = Frame(n).to_world(local);
         out->normal = n;
-        Rgb emitted = tl->radiance;
-        if (tl->textured) {
-            const Instance& inst = m_scene.instances[tl->instance];
-            const Mesh& mesh = m_scene.meshes[inst.mesh];
-            const uint32_t* idx = &mesh.indices[static_cast<size_t>(tl->prim) * 3];
-            SurfaceAttributes attr;
-            float b0 = 1.0f - b.x - b.y;
-            for (int set = 0; set < 2; ++set) {
-                const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
-                if (uv.empty()) continue;
-                attr.uv[set] = {b0 * uv[idx[0]].x + b.x * uv[idx[1]].x + b.y * uv[idx[2]].x,
-                                b0 * uv[idx[0]].y + b.x * uv[idx[1]].y + b.y * uv[idx[2]].y};
-            }
-            emitted = evaluate_emission(m_scene.material_of(mesh), m_scene, attr);
-        }
+        Rgb emitted = emitted_radiance(*tl, b);
         out->value = emitted;
         out->pdf_pos_a = 1.0f / tl->area;
         out->pdf_dir_w = triangle_dir_pdf(*tl, out->dir);

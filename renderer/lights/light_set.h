@@ -119,6 +119,9 @@ public:
     Rgb triangle_radiance(const TriangleLight& tl, const Vec3& w, const Rgb& emitted) const;
 
 private:
+    // Radiance of a triangle light at barycentrics b (its emissive texture, if any).
+    Rgb emitted_radiance(const TriangleLight& tl, Vec2 b) const;
+
     const Scene& m_scene;
     std::vector<LightVariant> m_lights;
     std::vector<int64_t> m_first_emitter;  // per instance
