@@ -75,7 +75,9 @@ public:
         uint64_t h = mix64(m_key + static_cast<uint64_t>(m_pair) * 0xd1b54a32d192ed03ull);
         ++m_pair;
         uint32_t i = owen_scramble(m_index, static_cast<uint32_t>(h));
-        uint32_t x = owen_scramble(sobol_dimension0(i), static_cast<uint32_t>(h >> 32));
+        // Dimension 0 is the bit reversal of i, so its scramble reverse(hash(reverse(reverse(i))))
+        // needs one reversal, not three.
+        uint32_t x = reverse_bits(owen_hash_reversed(i, static_cast<uint32_t>(h >> 32)));
         uint32_t y = owen_scramble(sobol_dimension1(i), static_cast<uint32_t>(mix64(h) >> 32));
         return {to_unit(x), to_unit(y)};
     }
