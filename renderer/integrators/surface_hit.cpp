@@ -96,12 +96,7 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit) {
     } else {
         s.ns = s.ng;
     }
-    for (int set = 0; set < 2; ++set) {
-        const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
-        if (uv.empty()) continue;
-        s.attr.uv[set] = {b0 * uv[idx[0]].x + b1 * uv[idx[1]].x + b2 * uv[idx[2]].x,
-                          b0 * uv[idx[0]].y + b1 * uv[idx[1]].y + b2 * uv[idx[2]].y};
-    }
+    interpolate_uvs(mesh, idx, b0, b1, b2, &s.attr);
     if (s.material->normal_texture.valid() && mesh.tangents.size() == mesh.positions.size())
         s.ns = apply_normal_map(rs, *s.material, mesh, inst, hit.instance, idx, b0, b1, b2, s.attr, s.ng, s.ns);
     if (!mesh.colors.empty()) {

@@ -116,13 +116,7 @@ Rgb LightSet::emitted_radiance(const TriangleLight& tl, Vec2 b) const {
     const Mesh& mesh = m_scene.meshes[m_scene.instances[tl.instance].mesh];
     const uint32_t* idx = &mesh.indices[static_cast<size_t>(tl.prim) * 3];
     SurfaceAttributes attr;
-    float b0 = 1.0f - b.x - b.y;
-    for (int set = 0; set < 2; ++set) {
-        const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
-        if (uv.empty()) continue;
-        attr.uv[set] = {b0 * uv[idx[0]].x + b.x * uv[idx[1]].x + b.y * uv[idx[2]].x,
-                        b0 * uv[idx[0]].y + b.x * uv[idx[1]].y + b.y * uv[idx[2]].y};
-    }
+    interpolate_uvs(mesh, idx, 1.0f - b.x - b.y, b.x, b.y, &attr);
     return evaluate_emission(m_scene.material_of(mesh), m_scene, attr);
 }
 

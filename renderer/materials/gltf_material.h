@@ -33,6 +33,17 @@ struct SurfaceAttributes {
     Rgba color{1, 1, 1, 1};
 };
 
+// TEXCOORD_0/1 of triangle `idx` (three vertex indices) at barycentrics (b0, b1, b2).
+inline void interpolate_uvs(const Mesh& mesh, const uint32_t* idx, float b0, float b1, float b2,
+                            SurfaceAttributes* attr) {
+    for (int set = 0; set < 2; ++set) {
+        const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
+        if (uv.empty()) continue;
+        attr->uv[set] = {b0 * uv[idx[0]].x + b1 * uv[idx[1]].x + b2 * uv[idx[2]].x,
+                         b0 * uv[idx[0]].y + b1 * uv[idx[1]].y + b2 * uv[idx[2]].y};
+    }
+}
+
 // Looks up the material's textures and combines them with its factors.
 ShadingInputs evaluate_material(const Material& m, const Scene& scene, const SurfaceAttributes& attr);
 // Only the emitted radiance (cheaper, for light sampling).
