@@ -10,6 +10,7 @@ packages=(
   build-essential cmake pkg-config git
   libembree-dev libtbb-dev libopenimageio-dev libopencolorio-dev
   libtinygltf-dev libstb-dev nlohmann-json3-dev libgtest-dev
+  libdraco-dev  # KHR_draco_mesh_compression (the glTF importer); tests encode streams with it too
   openimageio-tools opencolorio-tools
   python3 python3-numpy python3-openimageio
   blender  # the add-on's headless test (tests/api/check_blender.py); ~23 MB download, with its

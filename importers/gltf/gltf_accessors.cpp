@@ -165,7 +165,8 @@ struct Layout {
     size_t element_bytes() const { return component_bytes * static_cast<size_t>(components); }
 };
 
-Layout validate(const tinygltf::Model& model, int index, const std::string& what) {
+// The accessor's declared element type and count, checked, without looking at its data.
+Layout declared(const tinygltf::Model& model, int index, const std::string& what) {
     if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
         throw GltfError(what + ": accessor " + std::to_string(index) + " does not exist (the file has " +
                         std::to_string(model.accessors.size()) + ")");
@@ -182,6 +183,12 @@ Layout validate(const tinygltf::Model& model, int index, const std::string& what
         throw GltfError(l.where + ": count " + std::to_string(a.count) + " is larger than any mesh can use");
     l.count = a.count;
     l.normalized = a.normalized;
+    return l;
+}
+
+Layout validate(const tinygltf::Model& model, int index, const std::string& what) {
+    Layout l = declared(model, index, what);
+    const tinygltf::Accessor& a = model.accessors[index];
     if (a.bufferView >= 0)
         l.run = locate(model, a.bufferView, a.byteOffset, l.count, l.element_bytes(), true, l.where);
 
@@ -219,6 +226,26 @@ bool format_allows(const AttributeFormat& format, int type, bool normalized) {
     }
 }
 
+void check_format(const Layout& l, const AttributeFormat& format) {
+    if (l.components < format.min_components || l.components > format.max_components) {
+        std::string expected = type_name(format.min_components);
+        if (format.max_components != format.min_components) expected += " to " + type_name(format.max_components);
+        throw GltfError(l.where + ": type is " + type_name(l.components) + ", expected " + expected);
+    }
+    if (!format_allows(format, l.component_type, l.normalized))
+        throw GltfError(l.where + ": component type " + component_name(l.component_type) +
+                        (l.normalized ? " (normalized)" : "") + " is not allowed here");
+}
+
+void check_index_type(const Layout& l) {
+    if (l.components != 1) throw GltfError(l.where + ": indices must be SCALAR, not " + type_name(l.components));
+    if (l.component_type != k_ubyte && l.component_type != k_ushort && l.component_type != k_uint)
+        throw GltfError(l.where + ": indices have component type " + component_name(l.component_type) +
+                        " (expected UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT)");
+}
+
+AccessorInfo info(const Layout& l) { return {l.where, l.count, l.components, l.component_type, l.normalized}; }
+
 }  // namespace
 
 ImportContext::ImportContext(Scene& scene_, uint64_t input_bytes) : scene(scene_) {
@@ -240,17 +267,29 @@ void ImportContext::charge(uint64_t bytes, const std::string& what, Budget budge
     m_used[b] += bytes;
 }
 
+float decode_component(const uint8_t* p, int component_type, bool normalized) {
+    return decode_float(p, component_type, normalized);
+}
+
+const char* component_type_name(int component_type) { return component_name(component_type); }
+
+AccessorInfo attribute_accessor_info(const tinygltf::Model& model, int index, const AttributeFormat& format,
+                                     const std::string& what) {
+    Layout l = declared(model, index, what);
+    check_format(l, format);
+    return info(l);
+}
+
+AccessorInfo index_accessor_info(const tinygltf::Model& model, int index, const std::string& what) {
+    Layout l = declared(model, index, what);
+    check_index_type(l);
+    return info(l);
+}
+
 FloatAccessor read_float_accessor(const tinygltf::Model& model, int index, const AttributeFormat& format,
                                   const std::string& what, ImportContext& context) {
     Layout l = validate(model, index, what);
-    if (l.components < format.min_components || l.components > format.max_components) {
-        std::string expected = type_name(format.min_components);
-        if (format.max_components != format.min_components) expected += " to " + type_name(format.max_components);
-        throw GltfError(l.where + ": type is " + type_name(l.components) + ", expected " + expected);
-    }
-    if (!format_allows(format, l.component_type, l.normalized))
-        throw GltfError(l.where + ": component type " + component_name(l.component_type) +
-                        (l.normalized ? " (normalized)" : "") + " is not allowed here");
+    check_format(l, format);
 
     FloatAccessor out;
     out.count = l.count;
@@ -277,10 +316,7 @@ FloatAccessor read_float_accessor(const tinygltf::Model& model, int index, const
 std::vector<uint32_t> read_index_accessor(const tinygltf::Model& model, int index, const std::string& what,
                                           ImportContext& context) {
     Layout l = validate(model, index, what);
-    if (l.components != 1) throw GltfError(l.where + ": indices must be SCALAR, not " + type_name(l.components));
-    if (l.component_type != k_ubyte && l.component_type != k_ushort && l.component_type != k_uint)
-        throw GltfError(l.where + ": indices have component type " + component_name(l.component_type) +
-                        " (expected UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT)");
+    check_index_type(l);
 
     context.charge(l.count * sizeof(uint32_t), l.where);
     std::vector<uint32_t> out(l.count, 0);

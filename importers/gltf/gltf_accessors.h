@@ -72,6 +72,27 @@ struct FloatAccessor {
 FloatAccessor read_float_accessor(const tinygltf::Model& model, int index, const AttributeFormat& format,
                                   const std::string& what, ImportContext& context);
 
+// An accessor's declared element type and count, without its data: KHR_draco_mesh_compression
+// primitives take their data from the decoded stream, which must match this declaration.
+struct AccessorInfo {
+    std::string where;  // "`what` (accessor N)", for messages
+    size_t count = 0;
+    int components = 0;
+    int component_type = 0;
+    bool normalized = false;
+};
+// Checks the declaration against `format` as read_float_accessor does (type, component type,
+// normalized), never touching bufferView, byteOffset or sparse.
+AccessorInfo attribute_accessor_info(const tinygltf::Model& model, int index, const AttributeFormat& format,
+                                     const std::string& what);
+// The same for an index accessor: SCALAR, UNSIGNED_BYTE / SHORT / INT.
+AccessorInfo index_accessor_info(const tinygltf::Model& model, int index, const std::string& what);
+
+// One component at `p` of `component_type` as a float, normalized integers per the glTF spec
+// (unsigned c / max, signed max(c / max, -1)): the one rule for every attribute source.
+float decode_component(const uint8_t* p, int component_type, bool normalized);
+const char* component_type_name(int component_type);  // "UNSIGNED_SHORT", ...
+
 // Reads an index accessor (SCALAR u8 / u16 / u32), sparse substitution applied.
 std::vector<uint32_t> read_index_accessor(const tinygltf::Model& model, int index,
                                           const std::string& what, ImportContext& context);

@@ -12,12 +12,14 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <span>
 #include <string_view>
 
 #include <tiny_gltf.h>
 
 #include "importers/gltf/gltf_accessors.h"
+#include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_materials.h"
 #include "scene/mesh_tangents.h"
 
@@ -38,7 +40,8 @@ constexpr uint64_t k_max_file_bytes = UINT_MAX;  // tinygltf takes 32-bit length
 // change what a file means when they are only "used" (a plain material is the fallback).
 constexpr std::string_view k_supported_extensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_specular", "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_variants"};
+    "KHR_materials_specular", "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_variants",
+    "KHR_draco_mesh_compression"};
 constexpr std::string_view k_planned_extensions[] = {
     "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
     "KHR_materials_sheen", "KHR_materials_unlit"};
@@ -265,11 +268,17 @@ private:
     SpotFalloff m_spot_falloff = SpotFalloff::Gltf;
     int m_variant = -1;  // KHR_materials_variants index chosen by ImportOptions::variant
     size_t m_skipped_line_primitives = 0, m_dropped_triangles = 0;
+    std::set<int> m_draco_indices;  // index accessors given a placeholder bufferView for tinygltf
 };
 
 void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
     if (bytes.size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
     check_json_nesting(json_text(bytes, binary));
+    std::optional<std::vector<uint8_t>> patched = gltf::patch_draco_index_accessors(bytes, binary, m_draco_indices);
+    if (patched) {
+        if (patched->size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
+        bytes = *patched;
+    }
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keep_encoded_image, nullptr);
@@ -481,6 +490,17 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
         m_context->warn(what + " has no POSITION; skipped");
         return std::nullopt;
     }
+    // KHR_draco_mesh_compression: the attributes it lists and the indices come from its decoded
+    // stream (the accessors only declare them); any other attribute is read as usual.
+    std::unique_ptr<gltf::DracoPrimitive> draco = gltf::DracoPrimitive::decode(m_model, prim, what, *m_context);
+    if (draco && mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        throw GltfError(what + ": KHR_draco_mesh_compression allows mode TRIANGLES or TRIANGLE_STRIP, "
+                               "not TRIANGLE_FAN");
+    auto fetch = [&](const char* name, const gltf::AttributeFormat& format) {
+        if (draco && draco->has(name))
+            return draco->read(m_model, attribute(name), name, format, what, *m_context);
+        return gltf::read_float_accessor(m_model, attribute(name), format, what + " " + name, *m_context);
+    };
 
     // Floats always; the integer forms are KHR_mesh_quantization's (and normalized u8/u16 for
     // texcoords and colours in core glTF).
@@ -490,8 +510,7 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
     const gltf::AttributeFormat color_format{3, 4, true, false, false};
     Mesh mesh;
     {
-        gltf::FloatAccessor positions =
-            gltf::read_float_accessor(m_model, attribute("POSITION"), position_format, what + " POSITION", *m_context);
+        gltf::FloatAccessor positions = fetch("POSITION", position_format);
         if (positions.count > UINT32_MAX) throw GltfError(what + ": too many vertices");
         mesh.positions.resize(positions.count);
         for (size_t i = 0; i < positions.count; ++i) {
@@ -501,8 +520,7 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
     }
     size_t n = mesh.positions.size();
     auto read = [&](const char* name, const gltf::AttributeFormat& format) {
-        gltf::FloatAccessor a =
-            gltf::read_float_accessor(m_model, attribute(name), format, what + " " + name, *m_context);
+        gltf::FloatAccessor a = fetch(name, format);
         if (a.count != n)
             throw GltfError(what + " " + name + ": " + std::to_string(a.count) + " elements, but POSITION has " +
                             std::to_string(n));
@@ -537,19 +555,33 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
         }
     }
 
-    std::vector<uint32_t> indices;
-    if (prim.indices != -1) {
-        indices = gltf::read_index_accessor(m_model, prim.indices, what + " indices", *m_context);
-        for (uint32_t index : indices)
+    std::vector<uint32_t> triangles;
+    if (draco) {
+        // Draco decodes faces, whatever the mode: a strip's triangles come out as a list.
+        triangles = draco->triangles(m_model, prim.indices, mode == TINYGLTF_MODE_TRIANGLES, what, *m_context);
+        for (uint32_t index : triangles)
             if (index >= n)
-                throw GltfError(what + ": index accessor " + std::to_string(prim.indices) + " holds index " +
-                                std::to_string(index) + ", but POSITION has only " + std::to_string(n) + " vertices");
+                throw GltfError(what + ": the Draco stream's index " + std::to_string(index) +
+                                " is past POSITION's " + std::to_string(n) + " vertices");
     } else {
-        m_context->charge(n * sizeof(uint32_t), what);
-        indices.resize(n);
-        std::iota(indices.begin(), indices.end(), 0u);
+        std::vector<uint32_t> indices;
+        if (prim.indices != -1) {
+            if (m_draco_indices.count(prim.indices))
+                throw GltfError(what + ": index accessor " + std::to_string(prim.indices) +
+                                " has no bufferView (only a Draco-compressed primitive may use it)");
+            indices = gltf::read_index_accessor(m_model, prim.indices, what + " indices", *m_context);
+            for (uint32_t index : indices)
+                if (index >= n)
+                    throw GltfError(what + ": index accessor " + std::to_string(prim.indices) +
+                                    " holds index " + std::to_string(index) + ", but POSITION has only " +
+                                    std::to_string(n) + " vertices");
+        } else {
+            m_context->charge(n * sizeof(uint32_t), what);
+            indices.resize(n);
+            std::iota(indices.begin(), indices.end(), 0u);
+        }
+        triangles = triangulate(mode, indices, what);
     }
-    std::vector<uint32_t> triangles = triangulate(mode, indices, what);
 
     // The renderer can't intersect a triangle with a NaN or infinite corner: drop those here.
     std::vector<uint8_t> bad(n, 0);

@@ -32,6 +32,8 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --bdpt-strategy S,T     bdpt: render only the strategy with S light and T camera vertices,
                           unweighted (for verification)
   --max-depth N           maximum number of bounces (default 64)
+  --noise TARGET          adaptive sampling: stop pixels whose estimated relative error is below
+                          TARGET (e.g. 0.01; default 0: off, every pixel gets --spp)
   --camera NAME|INDEX     camera to render (default: the first)
   --scene N               glTF scene index (default: the file's default scene)
   --spot-falloff MODE     auto (default), blender or gltf: the spot cone profile
@@ -107,7 +109,63 @@ void expand_input(const std::string& pattern, std::vector<std::string>& out) {
     if (rc != 0) throw UsageError("no file matches '" + pattern + "'");
 }
 
+ApiOption int_option(const std::string& name, long long v) { return {ApiOption::Type::Int, name, v, 0, {}}; }
+ApiOption float_option(const std::string& name, double v) { return {ApiOption::Type::Float, name, 0, v, {}}; }
+ApiOption string_option(const std::string& name, const std::string& v) { return {ApiOption::Type::String, name, 0, 0, v}; }
+
+// A scene (never loaded) and a render of an empty scene on which the parser tries values: the
+// library's own checks decide what is valid, the command only words the usage message.
+class Probe {
+public:
+    explicit Probe(VeachDevice device) {
+        static const char k_empty_gltf[] = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})";
+        m_scene = veachNewScene(device);
+        VeachScene empty = veachNewSceneFromMemory(device, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr);
+        if (empty) m_render = veachNewRender(empty);
+        veachReleaseScene(empty);  // the render holds it
+        if (!m_scene || !m_render) throw std::runtime_error(std::string("cannot start libveach: ") + veachGetLastError());
+    }
+    ~Probe() {
+        veachReleaseRender(m_render);
+        veachReleaseScene(m_scene);
+    }
+    Probe(const Probe&) = delete;
+    Probe& operator=(const Probe&) = delete;
+    bool scene_accepts(const ApiOption& o) const { return apply_scene_option(m_scene, o) == VEACH_ERROR_NONE; }
+    bool render_accepts(const ApiOption& o) const { return apply_render_option(m_render, o) == VEACH_ERROR_NONE; }
+
+private:
+    VeachScene m_scene = nullptr;
+    VeachRender m_render = nullptr;
+};
+
+std::string device_list(VeachDevice device, const char* name, const char* separator) {
+    size_t length = 0;
+    veachGetDeviceString(device, name, nullptr, 0, &length);
+    std::string s(length + 1, '\0');
+    veachGetDeviceString(device, name, s.data(), s.size(), &length);
+    s.resize(length);
+    for (size_t pos; (pos = s.find('\n')) != std::string::npos;) s.replace(pos, 1, separator);
+    return s;
+}
+
 }  // namespace
+
+VeachError apply_scene_option(VeachScene scene, const ApiOption& o) {
+    switch (o.type) {
+    case ApiOption::Type::Int: return veachSetSceneInt(scene, o.name.c_str(), o.i);
+    case ApiOption::Type::Float: return veachSetSceneFloat(scene, o.name.c_str(), o.f);
+    default: return veachSetSceneString(scene, o.name.c_str(), o.s.c_str());
+    }
+}
+
+VeachError apply_render_option(VeachRender render, const ApiOption& o) {
+    switch (o.type) {
+    case ApiOption::Type::Int: return veachSetInt(render, o.name.c_str(), o.i);
+    case ApiOption::Type::Float: return veachSetFloat(render, o.name.c_str(), o.f);
+    default: return veachSetString(render, o.name.c_str(), o.s.c_str());
+    }
+}
 
 std::string output_path_for(const std::string& pattern, const std::string& input) {
     size_t slash = input.find_last_of('/');
@@ -123,9 +181,20 @@ std::string checkpoint_path_for(const RenderCommand& cmd, const std::string& inp
     return cmd.outputs.empty() ? std::string() : output_path_for(cmd.outputs.front(), input) + ".checkpoint";
 }
 
-RenderCommand parse_render_command(const std::vector<std::string>& args) {
+RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDevice device) {
     RenderCommand cmd;
-    bool filter_named = false, filter_width_given = false;
+    Probe probe(device);
+    auto scene_opt = [&](ApiOption o, const std::string& refusal) {
+        if (!refusal.empty() && !probe.scene_accepts(o)) throw UsageError(refusal);
+        cmd.scene_options.push_back(std::move(o));
+    };
+    auto render_opt = [&](ApiOption o, const std::string& refusal = {}) {
+        if (!refusal.empty() && !probe.render_accepts(o)) throw UsageError(refusal);
+        cmd.render_options.push_back(std::move(o));
+    };
+    bool filter_smooth = false, filter_width_given = false, env_map = false;
+    std::string env_color;  // the last --env-color, applied after the loop
+    std::string integrator = "bdpt";
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&]() -> const std::string& {
@@ -134,100 +203,93 @@ RenderCommand parse_render_command(const std::vector<std::string>& args) {
         };
         constexpr long long int_max = std::numeric_limits<int>::max();
         if (a == "-o" || a == "--output") cmd.outputs.push_back(value());
-        else if (a == "--width") cmd.job.width = static_cast<int>(parse_integer(a, value(), 1, 65536));
-        else if (a == "--height") cmd.job.height = static_cast<int>(parse_integer(a, value(), 1, 65536));
-        else if (a == "--spp") cmd.job.render.spp = static_cast<int>(parse_integer(a, value(), 1, int_max));
-        else if (a == "--time") cmd.job.render.time_limit = parse_number(a, value(), 0.0, 1e9);
-        else if (a == "--seed") cmd.job.render.seed = static_cast<uint64_t>(parse_integer(a, value(), 0, std::numeric_limits<long long>::max()));
-        else if (a == "--threads") cmd.job.render.threads = static_cast<int>(parse_integer(a, value(), 0, 4096));
-        else if (a == "--integrator") cmd.job.render.integrator = value();
+        else if (a == "--width") render_opt(int_option("width", parse_integer(a, value(), 1, 65536)));
+        else if (a == "--height") render_opt(int_option("height", parse_integer(a, value(), 1, 65536)));
+        else if (a == "--spp") render_opt(int_option("spp", parse_integer(a, value(), 1, int_max)));
+        else if (a == "--time") render_opt(float_option("time_limit", parse_number(a, value(), 0.0, 1e9)));
+        else if (a == "--seed")
+            render_opt(int_option("seed", parse_integer(a, value(), 0, std::numeric_limits<long long>::max())));
+        else if (a == "--threads") render_opt(int_option("threads", parse_integer(a, value(), 0, 4096)));
+        else if (a == "--integrator") integrator = value();
         else if (a == "--bdpt-strategy") {
             const std::string& v = value();
             size_t comma = v.find(',');
             if (comma == std::string::npos) throw UsageError("--bdpt-strategy expects s,t (e.g. 2,2)");
-            cmd.job.render.bdpt_s = static_cast<int>(parse_integer(a, v.substr(0, comma), 0, 1000));
-            cmd.job.render.bdpt_t = static_cast<int>(parse_integer(a, v.substr(comma + 1), 1, 1000));
+            render_opt(int_option("bdpt_s", parse_integer(a, v.substr(0, comma), 0, 1000)));
+            render_opt(int_option("bdpt_t", parse_integer(a, v.substr(comma + 1), 1, 1000)));
         }
         else if (a == "--sampler") {
             const std::string& v = value();
-            if (v == "sobol") cmd.job.render.sampler = SamplerKind::Sobol;
-            else if (v == "random") cmd.job.render.sampler = SamplerKind::Random;
-            else throw UsageError("--sampler expects sobol or random, not '" + v + "'");
+            render_opt(string_option("sampler", v), "--sampler expects sobol or random, not '" + v + "'");
         }
-        else if (a == "--max-depth") cmd.job.render.max_depth = static_cast<int>(parse_integer(a, value(), 0, 100000));
-        else if (a == "--camera") cmd.job.camera = value();
-        else if (a == "--scene") cmd.import.scene_index = static_cast<int>(parse_integer(a, value(), 0, int_max));
+        else if (a == "--max-depth") render_opt(int_option("max_depth", parse_integer(a, value(), 0, 100000)));
+        else if (a == "--noise") render_opt(float_option("noise", parse_number(a, value(), 0.0, 1e6)));
+        else if (a == "--camera") render_opt(string_option("camera", value()));  // checked against the scene
+        else if (a == "--scene") scene_opt(int_option("scene_index", parse_integer(a, value(), 0, int_max)), {});
         else if (a == "--spot-falloff") {
             const std::string& v = value();
-            if (v == "auto") cmd.import.spot_profile = SpotProfile::Auto;
-            else if (v == "blender") cmd.import.spot_profile = SpotProfile::Blender;
-            else if (v == "gltf") cmd.import.spot_profile = SpotProfile::Gltf;
-            else throw UsageError("--spot-falloff expects auto, blender or gltf, not '" + v + "'");
+            scene_opt(string_option("spot_falloff", v), "--spot-falloff expects auto, blender or gltf, not '" + v + "'");
         }
-        else if (a == "--allow-external-files") cmd.import.allow_external_files = true;
-        else if (a == "--variant") cmd.import.variant = value();
-        else if (a == "--env") cmd.environment.map_path = value();
+        else if (a == "--allow-external-files") scene_opt(int_option("allow_external_files", 1), {});
+        else if (a == "--variant") scene_opt(string_option("variant", value()), {});  // checked against the file
+        else if (a == "--env") {
+            const std::string& v = value();
+            env_map = !v.empty();
+            scene_opt(string_option("env_map", v), {});
+        }
         else if (a == "--env-color") {
             const std::string& v = value();
-            float c[3];
             size_t start = 0;
             for (int k = 0; k < 3; ++k) {
                 size_t comma = v.find(',', start);
                 if ((k < 2) != (comma != std::string::npos)) throw UsageError("--env-color expects R,G,B (e.g. 0.8,0.9,1)");
-                c[k] = static_cast<float>(parse_number(a, v.substr(start, comma - start), 0.0, 1e30));
+                parse_number(a, v.substr(start, comma - start), 0.0, 1e30);
                 start = comma + 1;
             }
-            cmd.environment.has_color = true;
-            cmd.environment.color = Rgb(c[0], c[1], c[2]);
+            env_color = v;
         }
-        else if (a == "--env-strength") cmd.environment.strength = static_cast<float>(parse_number(a, value(), 0.0, 1e30));
-        else if (a == "--env-rotate") cmd.environment.rotate_degrees = static_cast<float>(parse_number(a, value(), -1e6, 1e6));
-        else if (a == "--display") cmd.output_settings.display.display = value();
-        else if (a == "--view") cmd.output_settings.display.view = value();
-        else if (a == "--look") cmd.output_settings.display.look = value();
-        else if (a == "--exposure") cmd.output_settings.display.exposure = static_cast<float>(parse_number(a, value(), -64, 64));
-        else if (a == "--gamma") cmd.output_settings.display.gamma = static_cast<float>(parse_number(a, value(), 0.01, 100));
-        else if (a == "--half") cmd.output_settings.half = true;
+        else if (a == "--env-strength") scene_opt(float_option("env_strength", parse_number(a, value(), 0.0, 1e30)), {});
+        else if (a == "--env-rotate") scene_opt(float_option("env_rotate", parse_number(a, value(), -1e6, 1e6)), {});
+        else if (a == "--display") render_opt(string_option("display", value()));
+        else if (a == "--view") render_opt(string_option("view", value()));
+        else if (a == "--look") render_opt(string_option("look", value()));
+        else if (a == "--exposure") render_opt(float_option("exposure", parse_number(a, value(), -64, 64)));
+        else if (a == "--gamma") render_opt(float_option("gamma", parse_number(a, value(), 0.01, 100)));
+        else if (a == "--half") render_opt(int_option("half", 1));
         else if (a == "--filter") {
             const std::string& v = value();
-            if (!parse_filter_name(v, &cmd.job.film.filter.type))
-                throw UsageError("--filter expects box, gaussian or blackman-harris, not '" + v + "'");
-            filter_named = true;
+            render_opt(string_option("filter", v), "--filter expects box, gaussian or blackman-harris, not '" + v + "'");
+            filter_smooth = v != "box";
         }
         else if (a == "--filter-width") {
-            cmd.job.film.filter.width = static_cast<float>(parse_number(a, value(), 0.01, 64));
+            render_opt(float_option("filter_width", parse_number(a, value(), 0.01, 64)));
             filter_width_given = true;
         }
         else if (a == "--exr-codec") {
-            cmd.output_settings.exr_codec = value();
-            if (!is_exr_codec(cmd.output_settings.exr_codec))
-                throw UsageError("--exr-codec expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" +
-                                 cmd.output_settings.exr_codec + "'");
+            const std::string& v = value();
+            render_opt(string_option("exr_codec", v),
+                       "--exr-codec expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" + v + "'");
         }
         else if (a == "--passes") {
             const std::string v = value();
-            cmd.output_settings.passes.clear();
             for (size_t start = 0; start <= v.size();) {
                 size_t comma = std::min(v.find(',', start), v.size());
                 std::string name = v.substr(start, comma - start);
-                const auto& known = known_passes();
-                if (std::find(known.begin(), known.end(), name) == known.end())
-                    throw UsageError("--passes: unknown pass '" + name + "' (known: combined, depth, normal, albedo, variance)");
-                if (std::find(cmd.output_settings.passes.begin(), cmd.output_settings.passes.end(), name) ==
-                    cmd.output_settings.passes.end())
-                    cmd.output_settings.passes.push_back(name);
-                cmd.job.film.aovs = cmd.job.film.aovs || pass_needs_aovs(name);
+                if (name.empty() || !probe.render_accepts(string_option("passes", name)))
+                    throw UsageError("--passes: unknown pass '" + name + "' (known: " + device_list(device, "passes", ", ") +
+                                     ")");
                 start = comma + 1;
             }
+            render_opt(string_option("passes", v));
         }
         else if (a == "--skip-existing") cmd.skip_existing = true;
         else if (a == "--checkpoint") cmd.checkpoint_seconds = parse_number(a, value(), 0.0, 1e9);
         else if (a == "--resume") cmd.resume = true;
-        else if (a == "--quality") cmd.output_settings.quality = static_cast<int>(parse_integer(a, value(), 1, 100));
+        else if (a == "--quality") render_opt(int_option("quality", parse_integer(a, value(), 1, 100)));
         else if (a == "--bits") {
             int b = static_cast<int>(parse_integer(a, value(), 8, 16));
             if (b != 8 && b != 16) throw UsageError("--bits expects 8 or 16");
-            cmd.output_settings.bits = b;
+            render_opt(int_option("bits", b));
         }
         else if (a == "--stats-json") cmd.stats_json = value();
         else if (a == "-q" || a == "--quiet") cmd.quiet = true;
@@ -235,18 +297,15 @@ RenderCommand parse_render_command(const std::vector<std::string>& args) {
         else expand_input(a, cmd.inputs);
     }
     // Blender's width default for its smooth filters; the box stays one pixel.
-    if (filter_named && !filter_width_given && cmd.job.film.filter.type != FilterType::box)
-        cmd.job.film.filter.width = 1.5f;
+    if (filter_smooth && !filter_width_given) render_opt(float_option("filter_width", 1.5));
     if (cmd.inputs.empty()) throw UsageError("no input scene given");
-    if (!cmd.environment.map_path.empty() && cmd.environment.has_color)
-        throw UsageError("--env and --env-color exclude each other");
+    if (env_map && !env_color.empty()) throw UsageError("--env and --env-color exclude each other");
+    if (!env_color.empty()) scene_opt(string_option("env_color", env_color), "--env-color expects R,G,B (e.g. 0.8,0.9,1)");
     if (cmd.outputs.empty()) throw UsageError("no output given (-o FILE)");
     for (const std::string& o : cmd.outputs)
         if (cmd.inputs.size() > 1 && o.find("{stem}") == std::string::npos)
             throw UsageError("several inputs need an output pattern with {stem}, e.g. -o out/{stem}.exr");
-    bool known = false;
-    for (const std::string& n : integrator_names()) known = known || n == cmd.job.render.integrator;
-    if (!known) throw UsageError("unknown integrator '" + cmd.job.render.integrator + "'");
+    render_opt(string_option("integrator", integrator), "unknown integrator '" + integrator + "'");
     return cmd;
 }
 

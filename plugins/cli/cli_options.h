@@ -1,14 +1,13 @@
-// The `veach` command line: parsing into options, with one-line usage errors.
+// The `veach` command line: parsing into options of the public C API (veach/veach.h), with
+// one-line usage errors. The command is a client of libveach like any host: it knows the
+// library only through veach.h, so every flag maps to a named scene or render option.
 #pragma once
 
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "api/environment_options.h"
-#include "api/render_job.h"
-#include "importers/importer.h"
-#include "output/image_output.h"
+#include "veach/veach.h"
 
 namespace veach::cli {
 
@@ -17,13 +16,20 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// One typed option of the C API, as the command line asked for it.
+struct ApiOption {
+    enum class Type { Int, Float, String } type;
+    std::string name;
+    long long i = 0;
+    double f = 0;
+    std::string s;
+};
+
 struct RenderCommand {
-    std::vector<std::string> inputs;  // after glob expansion
+    std::vector<std::string> inputs;   // after glob expansion
     std::vector<std::string> outputs;  // files or patterns with {stem}; -o may repeat
-    ImportOptions import;
-    RenderJobOptions job;
-    EnvironmentOptions environment;
-    OutputSettings output_settings;
+    std::vector<ApiOption> scene_options;   // veachSetScene*: before each input is loaded
+    std::vector<ApiOption> render_options;  // veachSet*: on each input's render
     std::string stats_json;
     bool quiet = false;
     bool skip_existing = false;       // skip inputs whose outputs all exist
@@ -31,11 +37,17 @@ struct RenderCommand {
     bool resume = false;              // --resume: continue from the checkpoint when there is one
 };
 
+// Sets one option through the C API; returns its VeachError.
+VeachError apply_scene_option(VeachScene scene, const ApiOption& option);
+VeachError apply_render_option(VeachRender render, const ApiOption& option);
+
 // The checkpoint file for one input: beside its first output.
 std::string checkpoint_path_for(const RenderCommand& cmd, const std::string& input);
 
-// Parses the arguments after "render". Throws UsageError.
-RenderCommand parse_render_command(const std::vector<std::string>& args);
+// Parses the arguments after "render". Values are checked by the library itself, on a probe
+// scene and render of `device`, so that the command accepts exactly what the API accepts; a
+// refused value becomes the command's usage message. Throws UsageError.
+RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDevice device);
 
 // The output path for one input: {stem} replaced by the input's file name without extension.
 std::string output_path_for(const std::string& pattern, const std::string& input);

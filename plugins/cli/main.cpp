@@ -1,23 +1,21 @@
-// The `veach` command: batch rendering of glTF scenes.
+// The `veach` command: batch rendering of glTF scenes, a client of libveach's public C API
+// (veach/veach.h) and nothing else: it links libveach.so and uses only veach* symbols, so every
+// capability it has, a host application has too.
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <sstream>
+#include <stdexcept>
 
-#include "api/render_job.h"
 #include "cli_options.h"
-#include "film/film_checkpoint.h"
-#include "importers/importer.h"
-#include "output/display_transform.h"
-#include "output/image_output.h"
-#include "scene/scene_repair.h"
+#include "veach/veach.h"
 
 namespace veach::cli {
 namespace {
@@ -25,9 +23,11 @@ namespace {
 enum ExitCode { k_ok = 0, k_usage = 1, k_bad_input = 2, k_failure = 3, k_interrupted = 130 };
 
 // Interruption. A signal handler may only touch lock-free atomics (or volatile sig_atomic_t),
-// so it sets the flag the render loop polls between tiles and nothing else; the render then
-// stops, and the image is written as it stands by ordinary code. This is the one piece of
-// process-wide state in Veach, and it lives in the command, never in the library.
+// so it sets this flag and nothing else. The render runs asynchronously (veachRenderAsync) and
+// the main thread, waiting on it in short slices, sees the flag and calls veachCancelRender from
+// ordinary code; the library's tile driver then stops within a tile, and the image is written
+// as it stands. This is the one piece of process-wide state in Veach, and it lives in the
+// command, never in the library.
 static_assert(std::atomic<bool>::is_always_lock_free, "the cancel flag must be async-signal-safe");
 std::atomic<bool> g_cancel{false};
 volatile sig_atomic_t g_signal = 0;
@@ -61,43 +61,81 @@ const char* signal_name(int sig) {
     }
 }
 
-// Identifies the scene for checkpoints: the input file's bytes and the options that change the
-// scene after loading.
-uint64_t scene_hash(const RenderCommand& cmd, const std::string& input) {
-    uint64_t h = fnv1a_64(input);
-    std::ifstream f(input, std::ios::binary);
-    std::vector<char> buffer(1 << 16);
-    while (f) {
-        f.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-        h = fnv1a_64(buffer.data(), static_cast<size_t>(f.gcount()), h);
-    }
-    const EnvironmentOptions& env = cmd.environment;
-    h = fnv1a_64("|env=" + env.map_path + "|" + std::to_string(env.has_color) + "|" + std::to_string(env.color.r) + "," +
-                     std::to_string(env.color.g) + "," + std::to_string(env.color.b) + "|" +
-                     std::to_string(env.strength) + "|" + std::to_string(env.rotate_degrees) + "|scene=" +
-                     std::to_string(cmd.import.scene_index),
-                 h);
-    return h;
+// A string the library returns through a caller's buffer.
+template <class Getter>
+std::string get_string(Getter&& get) {
+    size_t length = 0;
+    if (get(nullptr, 0, &length) != VEACH_ERROR_NONE) return {};
+    std::string s(length + 1, '\0');
+    get(s.data(), s.size(), &length);
+    s.resize(std::min(length, s.size() - 1));
+    return s;
 }
 
-int list_color_config() {
-    ColorConfigInfo info;
-    try {
-        info = describe_color_config();
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "veach: %s\n", e.what());
+std::string device_string(VeachDevice d, const char* name) {
+    return get_string([&](char* b, size_t n, size_t* l) { return veachGetDeviceString(d, name, b, n, l); });
+}
+std::string scene_string(VeachScene s, const char* name) {
+    return get_string([&](char* b, size_t n, size_t* l) { return veachGetSceneString(s, name, b, n, l); });
+}
+std::string render_string(VeachRender r, const char* name) {
+    return get_string([&](char* b, size_t n, size_t* l) { return veachGetString(r, name, b, n, l); });
+}
+long long scene_int(VeachScene s, const char* name) {
+    long long v = 0;
+    veachGetSceneInt(s, name, &v);
+    return v;
+}
+long long render_int(VeachRender r, const char* name) {
+    long long v = 0;
+    veachGetInt(r, name, &v);
+    return v;
+}
+double render_float(VeachRender r, const char* name) {
+    double v = 0;
+    veachGetFloat(r, name, &v);
+    return v;
+}
+
+std::vector<std::string> split_lines(const std::string& s) {
+    std::vector<std::string> out;
+    if (s.empty()) return out;
+    for (size_t start = 0; start <= s.size();) {
+        size_t nl = std::min(s.find('\n', start), s.size());
+        out.push_back(s.substr(start, nl - start));
+        start = nl + 1;
+    }
+    return out;
+}
+
+// Handles released at the end of a scope.
+struct SceneRef {
+    VeachScene h = nullptr;
+    ~SceneRef() { veachReleaseScene(h); }
+};
+struct RenderRef {
+    VeachRender h = nullptr;
+    ~RenderRef() { veachReleaseRender(h); }
+};
+
+int list_color_config(VeachDevice device) {
+    std::string source = device_string(device, "color_config");
+    if (veachGetLastErrorCode() != VEACH_ERROR_NONE) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
         return k_bad_input;
     }
-    std::printf("config: %s\n", info.source.c_str());
+    std::printf("config: %s\n", source.c_str());
     std::printf("displays:\n");
-    for (const auto& [display, views] : info.views) {
+    for (const std::string& display : split_lines(device_string(device, "color_displays"))) {
+        std::vector<std::string> views = split_lines(device_string(device, ("color_views:" + display).c_str()));
         std::printf("  %s\n    views:", display.c_str());
         for (size_t i = 0; i < views.size(); ++i) std::printf("%s %s", i ? "," : "", views[i].c_str());
         std::printf("\n");
     }
+    std::vector<std::string> looks = split_lines(device_string(device, "color_looks"));
     std::printf("looks:");
-    for (size_t i = 0; i < info.looks.size(); ++i) std::printf("%s %s", i ? "," : "", info.looks[i].c_str());
-    std::printf("%s\n", info.looks.empty() ? " (none)" : "");
+    for (size_t i = 0; i < looks.size(); ++i) std::printf("%s %s", i ? "," : "", looks[i].c_str());
+    std::printf("%s\n", looks.empty() ? " (none)" : "");
     return k_ok;
 }
 
@@ -139,57 +177,83 @@ private:
     int m_last = -1;
 };
 
+// Called by the library on its rendering thread after each pass.
+extern "C" bool on_progress(void* user, double fraction, double eta) {
+    static_cast<ProgressPrinter*>(user)->update(fraction, eta);
+    return true;  // cancelling is the main thread's job (render_and_watch), promptly, per tile
+}
+
 struct Timings {
     double load = 0, build = 0, render = 0, write = 0, total = 0;
 };
 
-void write_stats_json(const std::string& path, const RenderCommand& cmd, const std::string& input, const Scene& scene,
-                      const RenderResult& r, const Timings& t) {
+void write_stats_json(const std::string& path, const std::string& input, VeachDevice device, VeachScene scene,
+                      VeachRender render, const Timings& t) {
     std::ostringstream js;
-    double samples = static_cast<double>(r.stats.camera_samples);
+    double samples = static_cast<double>(render_int(render, "result_camera_samples"));
+    double rays = static_cast<double>(render_int(render, "result_rays"));
+    long long peak = 0;
+    veachGetDeviceInt(device, "peak_memory_bytes", &peak);
     js << "{\n"
        << "  \"input\": \"" << json_escape(input) << "\",\n"
-       << "  \"width\": " << r.image.width << ",\n"
-       << "  \"height\": " << r.image.height << ",\n"
-       << "  \"spp\": " << r.stats.spp_done << ",\n"
-       << "  \"integrator\": \"" << json_escape(r.integrator) << "\",\n"
-       << "  \"threads\": " << cmd.job.render.threads << ",\n"
-       << "  \"seed\": " << cmd.job.render.seed << ",\n"
-       << "  \"camera\": \"" << json_escape(r.camera_name) << "\",\n"
-       << "  \"triangles\": " << r.triangles << ",\n"
+       << "  \"width\": " << render_int(render, "result_width") << ",\n"
+       << "  \"height\": " << render_int(render, "result_height") << ",\n"
+       << "  \"spp\": " << render_int(render, "result_spp") << ",\n"
+       << "  \"integrator\": \"" << json_escape(render_string(render, "result_integrator")) << "\",\n"
+       << "  \"threads\": " << render_int(render, "threads") << ",\n"
+       << "  \"seed\": " << static_cast<unsigned long long>(render_int(render, "seed")) << ",\n"
+       << "  \"camera\": \"" << json_escape(render_string(render, "result_camera")) << "\",\n"
+       << "  \"triangles\": " << scene_int(scene, "triangles") << ",\n"
        << "  \"seconds\": {\"load\": " << t.load << ", \"build\": " << t.build << ", \"render\": " << t.render
        << ", \"write\": " << t.write << ", \"total\": " << t.total << "},\n"
        << "  \"samples_per_second\": " << (t.render > 0 ? samples / t.render : 0.0) << ",\n"
-       << "  \"rays\": " << r.stats.rays << ",\n"
-       << "  \"rays_per_second\": " << (t.render > 0 ? r.stats.rays / t.render : 0.0) << ",\n"
-       << "  \"nonfinite_samples\": " << r.stats.nonfinite_samples << ",\n"
-       << "  \"peak_rss_bytes\": " << peak_resident_bytes() << ",\n"
-       << "  \"repaired\": {\"invalid_indices\": " << scene.repaired.invalid_indices
-       << ", \"nonfinite_triangles\": " << scene.repaired.nonfinite_triangles
-       << ", \"degenerate_triangles\": " << scene.repaired.degenerate_triangles
-       << ", \"duplicate_triangles\": " << scene.repaired.duplicate_triangles
-       << ", \"normals_replaced\": " << scene.repaired.normals_replaced
-       << ", \"normals_normalized\": " << scene.repaired.normals_normalized
-       << ", \"uvs_replaced\": " << scene.repaired.uvs_replaced
-       << ", \"colors_replaced\": " << scene.repaired.colors_replaced
-       << ", \"lights_dropped\": " << scene.repaired.lights_dropped << "},\n"
+       << "  \"rays\": " << render_int(render, "result_rays") << ",\n"
+       << "  \"rays_per_second\": " << (t.render > 0 ? rays / t.render : 0.0) << ",\n"
+       << "  \"nonfinite_samples\": " << render_int(render, "result_nonfinite_samples") << ",\n"
+       << "  \"peak_rss_bytes\": " << peak << ",\n"
+       << "  \"repaired\": {\"invalid_indices\": " << scene_int(scene, "repaired_invalid_indices")
+       << ", \"nonfinite_triangles\": " << scene_int(scene, "repaired_nonfinite_triangles")
+       << ", \"degenerate_triangles\": " << scene_int(scene, "repaired_degenerate_triangles")
+       << ", \"duplicate_triangles\": " << scene_int(scene, "repaired_duplicate_triangles")
+       << ", \"normals_replaced\": " << scene_int(scene, "repaired_normals_replaced")
+       << ", \"normals_normalized\": " << scene_int(scene, "repaired_normals_normalized")
+       << ", \"uvs_replaced\": " << scene_int(scene, "repaired_uvs_replaced")
+       << ", \"colors_replaced\": " << scene_int(scene, "repaired_colors_replaced")
+       << ", \"lights_dropped\": " << scene_int(scene, "repaired_lights_dropped") << "},\n"
        << "  \"features\": [";
-    std::vector<std::string> features = scene.features.names();
+    std::vector<std::string> features = split_lines(scene_string(scene, "features"));
     for (size_t i = 0; i < features.size(); ++i) js << (i ? ", " : "") << "\"" << features[i] << "\"";
     js << "]\n}\n";
     std::string tmp = path + ".tmp";
+    bool ok;
     {
         std::ofstream f(tmp);
         f << js.str();
-        if (!f) throw OutputError(path + ": cannot write the stats file");
+        ok = static_cast<bool>(f);
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
         std::remove(tmp.c_str());
-        throw OutputError(path + ": cannot write the stats file");
+        throw std::runtime_error(path + ": cannot write the stats file");
     }
 }
 
-int render_one(const RenderCommand& cmd, const std::string& input) {
+// Renders on the library's own thread while this one watches for a stop signal: the signal
+// handler only sets g_cancel, and veachCancelRender is called here, in ordinary code, within
+// 20 ms of it. Returns the final status (the last error holds a failure's message).
+VeachStatus render_and_watch(VeachRender render) {
+    if (veachRenderAsync(render) != VEACH_ERROR_NONE) return VEACH_STATUS_FAILED;
+    bool cancelled = false;
+    for (;;) {
+        VeachStatus status = veachWaitRender(render, 20);
+        if (status != VEACH_STATUS_RUNNING) return status;
+        if (!cancelled && g_cancel.load()) {
+            veachCancelRender(render);
+            cancelled = true;
+        }
+    }
+}
+
+int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input) {
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
     Timings t;
@@ -203,92 +267,83 @@ int render_one(const RenderCommand& cmd, const std::string& input) {
         }
     }
     auto t0 = clock::now();
-    Scene scene;
-    try {
-        scene = import_scene(input, cmd.import);
-    } catch (const ImportError& e) {
-        std::fprintf(stderr, "veach: %s\n", e.what());
-        return k_bad_input;
+    SceneRef scene{veachNewScene(device)};
+    if (!scene.h) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return k_failure;
     }
-    try {
-        apply_environment(cmd.environment, &scene);
-    } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "veach: %s\n", e.what());
-        return k_bad_input;
+    for (const ApiOption& o : cmd.scene_options) {
+        if (apply_scene_option(scene.h, o) != VEACH_ERROR_NONE) {
+            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
+            return k_bad_input;
+        }
     }
-    light_unlit_scene(scene);  // after --env: an explicit environment wins
-    rebase_scene(scene);       // a scene far from the origin keeps its precision (scene_repair.h)
-    for (const std::string& w : scene.warnings) std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
+    // Import, environment, then the library's repairs (a white world for an unlit scene, a far-off
+    // scene moved to the origin), as for every host.
+    if (VeachError e = veachLoadSceneFile(scene.h, input.c_str()); e != VEACH_ERROR_NONE) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return e == VEACH_ERROR_BAD_INPUT || e == VEACH_ERROR_INVALID_ARGUMENT ? k_bad_input : k_failure;
+    }
+    for (const std::string& w : split_lines(scene_string(scene.h, "warnings")))
+        std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
     auto t1 = clock::now();
     t.load = seconds(t0, t1);
 
-    ProgressPrinter progress(cmd.quiet);
-    RenderControl control;
-    control.progress = [&](double f, double eta) { progress.update(f, eta); };
-    control.cancel = &g_cancel;
-    RenderJobOptions job = cmd.job;
-    const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
-    if (checkpointing) {
-        job.checkpoint.path = checkpoint_path_for(cmd, input);
-        job.checkpoint.write = cmd.checkpoint_seconds >= 0;
-        job.checkpoint.interval_seconds = std::max(0.0, cmd.checkpoint_seconds);
-        job.checkpoint.resume = cmd.resume;
-        job.checkpoint.scene_hash = scene_hash(cmd, input);
+    RenderRef render{veachNewRender(scene.h)};
+    if (!render.h) {
+        std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
+        return k_failure;
     }
-    RenderResult result;
-    try {
-        result = render_scene(scene, job, control);
-    } catch (const CheckpointWriteError& e) {
-        std::fprintf(stderr, "veach: %s\n", e.what());
-        return k_failure;
-    } catch (const CheckpointError& e) {
-        std::fprintf(stderr, "veach: %s\n", e.what());
-        return k_bad_input;
-    } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), e.what());
-        return k_bad_input;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "veach: %s: render failed: %s\n", input.c_str(), e.what());
-        return k_failure;
+    for (const ApiOption& o : cmd.render_options) {
+        if (apply_render_option(render.h, o) != VEACH_ERROR_NONE) {  // e.g. no such camera
+            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
+            return k_bad_input;
+        }
+    }
+    const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
+    const std::string checkpoint = checkpoint_path_for(cmd, input);
+    if (checkpointing) {
+        veachSetString(render.h, "checkpoint", checkpoint.c_str());
+        veachSetFloat(render.h, "checkpoint_interval", cmd.checkpoint_seconds);  // < 0: never written
+        veachSetInt(render.h, "resume", cmd.resume ? 1 : 0);
+    }
+    ProgressPrinter progress(cmd.quiet);
+    veachSetProgressFunction(render.h, on_progress, &progress);
+    const long long spp_requested = render_int(render.h, "spp");
+
+    VeachStatus status = render_and_watch(render.h);
+    if (status == VEACH_STATUS_FAILED) {
+        VeachError e = veachGetLastErrorCode();
+        const char* message = veachGetLastError();
+        // The library's codes, as the command's exit codes: a checkpoint that cannot be read or
+        // belongs to another render is bad input (2), one that cannot be written a failure (3).
+        if (e == VEACH_ERROR_BAD_INPUT) std::fprintf(stderr, "veach: %s\n", message);
+        else if (e == VEACH_ERROR_OUTPUT) std::fprintf(stderr, "veach: %s\n", message);
+        else if (e == VEACH_ERROR_INVALID_ARGUMENT) std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), message);
+        else std::fprintf(stderr, "veach: %s: render failed: %s\n", input.c_str(), message);
+        return e == VEACH_ERROR_BAD_INPUT || e == VEACH_ERROR_INVALID_ARGUMENT ? k_bad_input : k_failure;
     }
     progress.finish();
-    for (const std::string& w : result.warnings) std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
-    // A signal after the last pass leaves a complete image: only fewer samples than asked is an
-    // interruption.
-    const bool interrupted = result.stats.cancelled && g_cancel.load() &&
-                             result.stats.spp_done < std::max(cmd.job.render.spp, result.resumed_spp);
-    if (interrupted && result.stats.spp_done == 0) {
+    for (const std::string& w : split_lines(render_string(render.h, "result_warnings")))
+        std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
+    // The library calls a render cancelled only when it has fewer samples than asked: a signal
+    // after the last pass leaves a complete image.
+    const long long spp_done = render_int(render.h, "result_spp");
+    const bool interrupted = status == VEACH_STATUS_CANCELLED && g_cancel.load();
+    if (interrupted && spp_done == 0) {
         std::fprintf(stderr, "veach: %s: interrupted by %s before the first pass completed; nothing written\n",
                      input.c_str(), signal_name(g_signal));
         return k_interrupted;
     }
-    t.build = result.build_seconds;
-    t.render = result.render_seconds;
+    t.build = render_float(render.h, "build_seconds");
+    t.render = render_float(render.h, "render_seconds");
 
-    OutputSettings os = cmd.output_settings;
-    os.metadata["Software"] = std::string("veach ") + VEACH_VERSION_STRING;
-    os.metadata["veach:scene"] = input;
-    os.metadata["veach:camera"] = result.camera_name;
-    // The samples per pixel every pixel completed: after an interruption some pixels hold one
-    // more pass, which per-pixel averaging keeps unbiased.
-    os.metadata["veach:spp"] = std::to_string(result.stats.spp_done);
-    os.metadata["veach:spp_requested"] = std::to_string(cmd.job.render.spp);
-    os.metadata["veach:complete"] = interrupted ? "no" : "yes";
-    char filter[64];
-    std::snprintf(filter, sizeof(filter), "%s %g", filter_name(cmd.job.film.filter.type), cmd.job.film.filter.width);
-    os.metadata["veach:filter"] = filter;
-    if (result.resumed_spp > 0) os.metadata["veach:resumed_spp"] = std::to_string(result.resumed_spp);
-    os.metadata["veach:seed"] = std::to_string(cmd.job.render.seed);
-    os.metadata["veach:integrator"] = result.integrator;
-    os.metadata["veach:render_seconds"] = std::to_string(result.render_seconds);
     auto t2 = clock::now();
     std::string written;
     for (const std::string& pattern : cmd.outputs) {
         std::string out = output_path_for(pattern, input);
-        try {
-            write_image(result.image, out, os);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "veach: %s\n", e.what());
+        if (veachWriteImage(render.h, out.c_str()) != VEACH_ERROR_NONE) {
+            std::fprintf(stderr, "veach: %s\n", veachGetLastError());
             return k_failure;
         }
         written += (written.empty() ? "" : ", ") + out;
@@ -296,30 +351,30 @@ int render_one(const RenderCommand& cmd, const std::string& input) {
     // The image is safely in place: the state it was resumable from has served its purpose.
     if (checkpointing && !interrupted) {
         std::error_code ec;
-        std::filesystem::remove(job.checkpoint.path, ec);
+        std::filesystem::remove(checkpoint, ec);
     }
     auto t3 = clock::now();
     t.write = seconds(t2, t3);
     t.total = seconds(t0, t3);
-    if (result.stats.nonfinite_samples > 0)
+    if (long long nonfinite = render_int(render.h, "result_nonfinite_samples"); nonfinite > 0)
         std::fprintf(stderr, "veach: warning: %s: %llu non-finite samples dropped\n", input.c_str(),
-                     static_cast<unsigned long long>(result.stats.nonfinite_samples));
+                     static_cast<unsigned long long>(nonfinite));
     if (!cmd.stats_json.empty()) {
         try {
-            write_stats_json(output_path_for(cmd.stats_json, input), cmd, input, scene, result, t);
+            write_stats_json(output_path_for(cmd.stats_json, input), input, device, scene.h, render.h, t);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "veach: %s\n", e.what());
             return k_failure;
         }
     }
     if (interrupted) {
-        std::fprintf(stderr, "veach: %s: interrupted by %s: wrote %s with %d of %d spp\n", input.c_str(),
-                     signal_name(g_signal), written.c_str(), result.stats.spp_done, cmd.job.render.spp);
+        std::fprintf(stderr, "veach: %s: interrupted by %s: wrote %s with %lld of %lld spp\n", input.c_str(),
+                     signal_name(g_signal), written.c_str(), spp_done, spp_requested);
         return k_interrupted;
     }
     if (!cmd.quiet)
-        std::fprintf(stderr, "veach: %s -> %s (%dx%d, %d spp, %.2fs)\n", input.c_str(), written.c_str(), result.image.width,
-                     result.image.height, result.stats.spp_done, t.total);
+        std::fprintf(stderr, "veach: %s -> %s (%lldx%lld, %lld spp, %.2fs)\n", input.c_str(), written.c_str(),
+                     render_int(render.h, "result_width"), render_int(render.h, "result_height"), spp_done, t.total);
     return k_ok;
 }
 
@@ -330,17 +385,30 @@ int run(int argc, char** argv) {
         return args.empty() ? k_usage : k_ok;
     }
     if (args[0] == "--version") {
-        std::printf("veach %s\n", VEACH_VERSION_STRING);
+        std::printf("veach %s\n", veachGetVersionString());
         return k_ok;
     }
-    if (args[0] == "color" || args[0] == "colour") return list_color_config();
-    if (args[0] != "render") {
+    if (args[0] != "render" && args[0] != "color" && args[0] != "colour") {
         std::fprintf(stderr, "veach: unknown command '%s' (try 'veach --help')\n", args[0].c_str());
         return k_usage;
     }
+    if (veachGetVersion() / 10000 != VEACH_VERSION_MAJOR || veachGetVersion() < VEACH_VERSION) {
+        std::fprintf(stderr, "veach: libveach %s is older than this command needs (%d.%d)\n", veachGetVersionString(),
+                     VEACH_VERSION_MAJOR, VEACH_VERSION_MINOR);
+        return k_failure;
+    }
+    struct DeviceRef {
+        VeachDevice h = veachNewDevice();
+        ~DeviceRef() { veachReleaseDevice(h); }
+    } device;
+    if (!device.h) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return k_failure;
+    }
+    if (args[0] != "render") return list_color_config(device.h);
     RenderCommand cmd;
     try {
-        cmd = parse_render_command(std::vector<std::string>(args.begin() + 1, args.end()));
+        cmd = parse_render_command(std::vector<std::string>(args.begin() + 1, args.end()), device.h);
     } catch (const UsageError& e) {
         std::fprintf(stderr, "veach: %s (try 'veach --help')\n", e.what());
         return k_usage;
@@ -349,7 +417,7 @@ int run(int argc, char** argv) {
     int worst = k_ok;
     for (const std::string& input : cmd.inputs) {
         if (g_cancel.load()) return k_interrupted;
-        int rc = render_one(cmd, input);
+        int rc = render_one(device.h, cmd, input);
         if (rc == k_interrupted) return k_interrupted;
         worst = std::max(worst, rc);
     }

@@ -1,16 +1,21 @@
-// The C API's version, errors, devices and scenes (renders are in c_api_render.cpp).
+// The C API's version, errors and devices (scenes are in c_api_scene.cpp, renders in
+// c_api_render.cpp).
 //
 // The boundary contract: every entry point catches everything (guarded()), reports the failure
 // through the device's callback and this thread's last error, and returns a neutral value. The
 // last error is thread_local rather than per device so that a host can ask "what went wrong" on
 // the thread that made the call, as with errno, even when the call had no device (a null handle).
+#include <algorithm>
 #include <cstring>
 #include <new>
 #include <stdexcept>
 
-#include "scene/scene_repair.h"
 #include "api/c_api_handles.h"
+#include "api/render_job.h"
+#include "film/film_checkpoint.h"
 #include "importers/importer.h"
+#include "integrators/integrator.h"
+#include "output/display_transform.h"
 
 static_assert(VEACH_VERSION_MAJOR == VEACH_PROJECT_VERSION_MAJOR &&
                   VEACH_VERSION_MINOR == VEACH_PROJECT_VERSION_MINOR &&
@@ -57,6 +62,14 @@ VeachError code_of_current_exception(std::string& message) {
     } catch (const ImportError& e) {
         message = e.what();
         return VEACH_ERROR_BAD_INPUT;
+    } catch (const CheckpointWriteError& e) {
+        // Before CheckpointError, its base: failing to write is an output fault (the CLI's exit 3),
+        // a checkpoint that cannot be read or belongs to another render is bad input (exit 2).
+        message = e.what();
+        return VEACH_ERROR_OUTPUT;
+    } catch (const CheckpointError& e) {
+        message = e.what();
+        return VEACH_ERROR_BAD_INPUT;
     } catch (const OutputError& e) {
         message = e.what();
         return VEACH_ERROR_OUTPUT;
@@ -73,6 +86,14 @@ VeachError code_of_current_exception(std::string& message) {
         message = "unknown error";
         return VEACH_ERROR_UNKNOWN;
     }
+}
+
+void copy_string(const std::string& value, char* buffer, size_t size, size_t* length) {
+    if (length) *length = value.size();
+    if (!buffer || size == 0) return;
+    size_t n = std::min(value.size(), size - 1);
+    std::memcpy(buffer, value.data(), n);
+    buffer[n] = '\0';
 }
 
 }  // namespace veach::capi
@@ -93,7 +114,6 @@ void VeachDeviceImpl::report(VeachError code, const std::string& message) {
     if (fn) fn(user, code, message.c_str());
 }
 
-VeachSceneImpl::~VeachSceneImpl() { veachReleaseDevice(m_device); }
 
 extern "C" {
 
@@ -127,65 +147,62 @@ VEACH_API void veachSetDeviceErrorFunction(VeachDevice device, VeachErrorFunctio
     });
 }
 
+VEACH_API VeachError veachGetDeviceInt(VeachDevice device, const char* name, long long* value) {
+    return guarded<VeachError>(device, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        if (!device) throw veach::capi::invalid("veachGetDeviceInt: null device");
+        if (!value) throw veach::capi::invalid("veachGetDeviceInt: null value pointer");
+        std::string n = name ? name : "";
+        if (n == "peak_memory_bytes") *value = static_cast<long long>(veach::peak_resident_bytes());
+        else throw veach::capi::invalid("unknown device int '" + n + "' (known: peak_memory_bytes)");
+        return VEACH_ERROR_NONE;
+    });
+}
+
 namespace {
 
-VeachScene adopt_scene(VeachDevice device, veach::Scene&& scene) {
-    // What the CLI does after loading, so every front end renders the same image: a scene with
-    // no light gets the uniform white sky glTF viewers use, and a scene far from the origin is
-    // moved to it (scene_repair.h).
-    veach::light_unlit_scene(scene);
-    veach::rebase_scene(scene);
-    auto* s = new VeachSceneImpl();
-    s->m_scene = std::move(scene);
-    veachRetainDevice(device);
-    s->m_device = device;
-    return s;
+std::string lines(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& i : items) out += (out.empty() ? "" : "\n") + i;
+    return out;
 }
 
 }  // namespace
 
-VEACH_API VeachScene veachNewSceneFromFile(VeachDevice device, const char* path) {
-    return guarded<VeachScene>(device, nullptr, [&] {
-        if (!device) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachNewSceneFromFile: null device"};
-        if (!path || !*path) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachNewSceneFromFile: empty path"};
-        return adopt_scene(device, veach::import_scene(path));
-    });
-}
-
-VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* data, size_t size, const char* format,
-                                             const char* base_dir) {
-    return guarded<VeachScene>(device, nullptr, [&] {
-        if (!device) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachNewSceneFromMemory: null device"};
-        if (!data || size == 0) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachNewSceneFromMemory: empty buffer"};
-        if (!format || !*format) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachNewSceneFromMemory: no format"};
-        const auto* bytes = static_cast<const uint8_t*>(data);
-        std::vector<uint8_t> copy(bytes, bytes + size);
-        return adopt_scene(device, veach::import_scene_from_memory(copy, format, base_dir ? base_dir : ""));
-    });
-}
-
-VEACH_API void veachRetainScene(VeachScene scene) {
-    if (scene) scene->retain();
-}
-
-VEACH_API void veachReleaseScene(VeachScene scene) {
-    if (scene && scene->release()) delete scene;
-}
-
-VEACH_API int veachGetSceneCameraCount(VeachScene scene) {
-    return guarded<int>(nullptr, -1, [&] {
-        if (!scene) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachGetSceneCameraCount: null scene"};
-        return static_cast<int>(scene->m_scene.cameras.size());
-    });
-}
-
-VEACH_API const char* veachGetSceneCameraName(VeachScene scene, int index) {
-    return guarded<const char*>(scene ? scene->m_device : nullptr, nullptr, [&]() -> const char* {
-        if (!scene) throw ApiError{VEACH_ERROR_INVALID_ARGUMENT, "veachGetSceneCameraName: null scene"};
-        if (index < 0 || static_cast<size_t>(index) >= scene->m_scene.cameras.size())
-            throw ApiError{VEACH_ERROR_INVALID_ARGUMENT,
-                           "veachGetSceneCameraName: no camera " + std::to_string(index)};
-        return scene->m_scene.cameras[static_cast<size_t>(index)].name.c_str();
+VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, char* buffer, size_t size,
+                                          size_t* length) {
+    return guarded<VeachError>(device, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        if (!device) throw veach::capi::invalid("veachGetDeviceString: null device");
+        if (!buffer && size > 0) throw veach::capi::invalid("veachGetDeviceString: null buffer");
+        std::string n = name ? name : "";
+        std::string value;
+        if (n == "integrators") value = lines(veach::integrator_names());
+        else if (n == "filters") value = "box\ngaussian\nblackman-harris";
+        else if (n == "passes") value = lines(veach::known_passes());
+        else if (n == "exr_codecs") value = "none\nrle\nzips\nzip\npiz\npxr24\nb44\nb44a\ndwaa\ndwab";
+        else if (n.rfind("color_", 0) == 0) {
+            // Read on every call: $OCIO may change between calls, and listing is rare.
+            veach::ColorConfigInfo info;
+            try {
+                info = veach::describe_color_config();
+            } catch (const std::exception& e) {
+                throw ApiError{VEACH_ERROR_BAD_INPUT, e.what()};
+            }
+            if (n == "color_config") value = info.source;
+            else if (n == "color_displays") value = lines(info.displays);
+            else if (n == "color_looks") value = lines(info.looks);
+            else if (n.rfind("color_views:", 0) == 0) {
+                std::string display = n.substr(12);
+                bool found = false;
+                for (const auto& [d, views] : info.views)
+                    if (d == display) value = lines(views), found = true;
+                if (!found) throw veach::capi::invalid("no display '" + display + "' in the colour config");
+            } else throw veach::capi::invalid("unknown device string '" + n + "'");
+        } else
+            throw veach::capi::invalid("unknown device string '" + n +
+                                       "' (known: integrators, filters, passes, exr_codecs, color_config, "
+                                       "color_displays, color_looks, color_views:DISPLAY)");
+        veach::capi::copy_string(value, buffer, size, length);
+        return VEACH_ERROR_NONE;
     });
 }
 

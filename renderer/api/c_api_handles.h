@@ -10,7 +10,9 @@
 #include <thread>
 #include <type_traits>
 
+#include "api/environment_options.h"
 #include "api/render_job.h"
+#include "importers/importer.h"
 #include "output/image_output.h"
 #include "scene/scene.h"
 #include "veach/veach.h"
@@ -39,7 +41,19 @@ struct VeachDeviceImpl : veach::capi::RefCounted {
 
 struct VeachSceneImpl : veach::capi::RefCounted {
     VeachDeviceImpl* m_device = nullptr;  // retained
-    veach::Scene m_scene;                 // immutable once loaded: renders share it read-only
+
+    // Before the load: options, guarded by m_mutex. The load happens once; from then on
+    // everything below is immutable and renders share it read-only without locking.
+    std::mutex m_mutex;
+    std::atomic<bool> m_loaded{false};
+    veach::ImportOptions m_import;
+    veach::EnvironmentOptions m_environment;
+    std::string m_env_color;   // the env_color option as given ("R,G,B"), for reading back
+    std::string m_source;      // the file loaded, "" for a scene from memory
+    // Identifies the scene's content and every scene option for checkpoints: a checkpoint of
+    // another file, variant or environment is refused.
+    uint64_t m_content_hash = 0;
+    veach::Scene m_scene;
     ~VeachSceneImpl();
 };
 
@@ -54,6 +68,8 @@ struct VeachRenderImpl : veach::capi::RefCounted {
     VeachProgressFunction m_progress_fn = nullptr;
     void* m_progress_user = nullptr;
     std::shared_ptr<const veach::RenderResult> m_result;  // the last finished or cancelled render
+    veach::RenderJobOptions m_result_job;                 // the options m_result was rendered with
+    bool m_result_complete = false;                       // m_result has every requested sample
     VeachError m_failure = VEACH_ERROR_NONE;              // why the last render failed
     std::string m_failure_message;
 
@@ -81,6 +97,12 @@ struct ApiError {
     VeachError code;
     std::string message;
 };
+
+inline ApiError invalid(const std::string& message) { return ApiError{VEACH_ERROR_INVALID_ARGUMENT, message}; }
+
+// Copies `value` into a caller's buffer as veach.h describes (truncated, NUL-terminated, full
+// length reported).
+void copy_string(const std::string& value, char* buffer, size_t size, size_t* length);
 
 // Runs an entry point's body with the boundary's contract: the last error cleared on entry, and
 // any exception caught, reported (callback of `device` if known, last error always) and mapped to

@@ -6,8 +6,10 @@
 // (integrators/integrator.cpp) reads it before every 16x16 tile, so a render stops after at most
 // the tiles already running finish their current pass (up to 16 samples per pixel of one tile
 // per worker thread); tests/api measures it. Building the BVH is not interruptible.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -16,6 +18,7 @@
 
 using veach::capi::ApiError;
 using veach::capi::guarded;
+using veach::capi::invalid;
 
 VeachRenderImpl::~VeachRenderImpl() {
     m_cancel = true;
@@ -30,6 +33,7 @@ VeachError VeachRenderImpl::run() {
     {
         std::lock_guard<std::mutex> lock(m_mutex);
         job = m_job;
+        job.checkpoint.scene_hash = m_scene->m_content_hash;
         progress_fn = m_progress_fn;
         progress_user = m_progress_user;
         m_failure = VEACH_ERROR_NONE;
@@ -51,7 +55,9 @@ VeachError VeachRenderImpl::run() {
     VeachStatus status = VEACH_STATUS_DONE;
     try {
         auto result = std::make_shared<veach::RenderResult>(veach::render_scene(m_scene->m_scene, job, control));
-        if (result->stats.cancelled) {
+        // A cancel that came after the last pass leaves a complete image: only fewer samples than
+        // asked (or than a checkpoint already held) is a cancelled render.
+        if (result->stats.cancelled && result->stats.spp_done < std::max(job.render.spp, result->resumed_spp)) {
             status = VEACH_STATUS_CANCELLED;
             outcome = VEACH_ERROR_CANCELLED;
             message = "render cancelled after " + std::to_string(result->stats.spp_done) + " samples per pixel";
@@ -61,6 +67,8 @@ VeachError VeachRenderImpl::run() {
         }
         std::lock_guard<std::mutex> lock(m_mutex);
         m_result = std::move(result);
+        m_result_job = job;
+        m_result_complete = status == VEACH_STATUS_DONE;
     } catch (...) {
         outcome = veach::capi::code_of_current_exception(message);
         status = VEACH_STATUS_FAILED;
@@ -80,8 +88,6 @@ VeachError VeachRenderImpl::run() {
 }
 
 namespace {
-
-ApiError invalid(const std::string& message) { return ApiError{VEACH_ERROR_INVALID_ARGUMENT, message}; }
 
 VeachDeviceImpl* device_of(VeachRender render) { return render ? render->m_scene->m_device : nullptr; }
 
@@ -109,10 +115,15 @@ enum class Kind { None, Int, Float, String };
 
 Kind kind_of(const std::string& n) {
     static const char* const ints[] = {"width", "height", "spp", "seed", "max_depth", "threads", "bits", "quality",
-                                       "half", "aovs", "result_width", "result_height", "result_spp"};
-    static const char* const floats[] = {"time_limit", "exposure", "gamma", "filter_width",
-                                         "progress", "eta_seconds", "render_seconds"};
-    static const char* const strings[] = {"integrator", "camera", "filter", "display", "view", "look"};
+                                       "half", "aovs", "bdpt_s", "bdpt_t", "resume", "result_width",
+                                       "result_height", "result_spp", "result_resumed_spp", "result_complete",
+                                       "result_camera_samples", "result_rays", "result_nonfinite_samples"};
+    static const char* const floats[] = {"time_limit", "exposure", "gamma", "filter_width", "noise",
+                                         "checkpoint_interval", "progress", "eta_seconds", "render_seconds",
+                                         "build_seconds"};
+    static const char* const strings[] = {"integrator", "camera", "filter", "sampler", "display", "view", "look",
+                                          "exr_codec", "passes", "checkpoint", "result_camera", "result_integrator",
+                                          "result_warnings"};
     for (const char* k : ints)
         if (n == k) return Kind::Int;
     for (const char* k : floats)
@@ -132,6 +143,33 @@ void check_kind(const char* name, Kind wanted) {
                   names[static_cast<int>(wanted)]);
 }
 
+bool is_result(const std::string& n) {
+    return n.rfind("result_", 0) == 0 || n == "progress" || n == "eta_seconds" || n == "render_seconds" ||
+           n == "build_seconds";
+}
+
+std::string join(const std::vector<std::string>& items, const char* separator) {
+    std::string out;
+    for (const std::string& i : items) out += (out.empty() ? "" : separator) + i;
+    return out;
+}
+
+// "combined,depth": each a known pass, once, in the order given.
+std::vector<std::string> parse_passes(const std::string& v) {
+    std::vector<std::string> passes;
+    if (v.empty()) return passes;
+    const auto& known = veach::known_passes();
+    for (size_t start = 0; start <= v.size();) {
+        size_t comma = std::min(v.find(',', start), v.size());
+        std::string name = v.substr(start, comma - start);
+        if (std::find(known.begin(), known.end(), name) == known.end())
+            throw invalid("option 'passes': unknown pass '" + name + "' (known: " + join(known, ", ") + ")");
+        if (std::find(passes.begin(), passes.end(), name) == passes.end()) passes.push_back(name);
+        start = comma + 1;
+    }
+    return passes;
+}
+
 }  // namespace
 
 extern "C" {
@@ -139,6 +177,8 @@ extern "C" {
 VEACH_API VeachRender veachNewRender(VeachScene scene) {
     return guarded<VeachRender>(scene ? scene->m_device : nullptr, nullptr, [&] {
         if (!scene) throw invalid("veachNewRender: null scene");
+        if (!scene->m_loaded)
+            throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachNewRender: the scene is not loaded (veachLoadSceneFile)"};
         auto* r = new VeachRenderImpl();
         veachRetainScene(scene);
         r->m_scene = scene;
@@ -160,7 +200,7 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
         check_kind(name, Kind::Int);
         check_not_running(render, "veachSetInt");
         std::string n = name;
-        if (n.rfind("result_", 0) == 0) throw invalid("option '" + n + "' is read-only");
+        if (is_result(n)) throw invalid("option '" + n + "' is read-only");
         std::lock_guard<std::mutex> lock(render->m_mutex);
         veach::RenderJobOptions& job = render->m_job;
         if (n == "width") job.width = to_int(n, value, 0, 65536);
@@ -169,7 +209,7 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
         else if (n == "seed") {
             if (value < 0) throw invalid("option 'seed' must not be negative");
             job.render.seed = static_cast<uint64_t>(value);
-        } else if (n == "max_depth") job.render.max_depth = to_int(n, value, 0, 1 << 16);
+        } else if (n == "max_depth") job.render.max_depth = to_int(n, value, 0, 100000);
         else if (n == "threads") job.render.threads = to_int(n, value, 0, 1 << 16);
         else if (n == "bits") {
             if (value != 8 && value != 16) throw invalid("option 'bits' must be 8 or 16");
@@ -177,6 +217,9 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
         } else if (n == "quality") render->m_output.quality = to_int(n, value, 1, 100);
         else if (n == "half") render->m_output.half = to_int(n, value, 0, 1) != 0;
         else if (n == "aovs") job.film.aovs = to_int(n, value, 0, 1) != 0;
+        else if (n == "bdpt_s") job.render.bdpt_s = to_int(n, value, -1, 1000);
+        else if (n == "bdpt_t") job.render.bdpt_t = to_int(n, value, -1, 1000);
+        else if (n == "resume") job.checkpoint.resume = to_int(n, value, 0, 1) != 0;
         return VEACH_ERROR_NONE;
     });
 }
@@ -195,9 +238,19 @@ VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double 
         } else if (n == "filter_width") {
             if (value <= 0 || value > 64) throw invalid("option 'filter_width' must be in (0, 64] pixels");
             render->m_job.film.filter.width = static_cast<float>(value);
-        } else if (n == "exposure") render->m_output.display.exposure = static_cast<float>(value);
+        } else if (n == "noise") {
+            if (value < 0 || value > 1e6) throw invalid("option 'noise' must be 0 (off) or a positive relative error");
+            render->m_job.render.noise_target = static_cast<float>(value);
+        } else if (n == "checkpoint_interval") {
+            if (value > 1e9) throw invalid("option 'checkpoint_interval' must be at most 1e9 seconds");
+            render->m_job.checkpoint.write = value >= 0;
+            render->m_job.checkpoint.interval_seconds = value >= 0 ? value : 0;
+        } else if (n == "exposure") {
+            if (std::abs(value) > 64) throw invalid("option 'exposure' must be in [-64, 64] stops");
+            render->m_output.display.exposure = static_cast<float>(value);
+        }
         else if (n == "gamma") {
-            if (value <= 0) throw invalid("option 'gamma' must be positive");
+            if (value < 0.01 || value > 100) throw invalid("option 'gamma' must be in [0.01, 100]");
             render->m_output.display.gamma = static_cast<float>(value);
         } else throw invalid("option '" + n + "' is read-only");
         return VEACH_ERROR_NONE;
@@ -222,9 +275,24 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
         } else if (n == "filter") {
             if (!veach::parse_filter_name(v, &render->m_job.film.filter.type))
                 throw invalid("option 'filter': unknown filter '" + v + "' (known: box, gaussian, blackman-harris)");
+        } else if (n == "sampler") {
+            if (v == "sobol") render->m_job.render.sampler = veach::SamplerKind::Sobol;
+            else if (v == "random") render->m_job.render.sampler = veach::SamplerKind::Random;
+            else throw invalid("option 'sampler': expects sobol or random, not '" + v + "'");
         } else if (n == "display") render->m_output.display.display = v;
         else if (n == "view") render->m_output.display.view = v;
         else if (n == "look") render->m_output.display.look = v;
+        else if (n == "exr_codec") {
+            if (!veach::is_exr_codec(v))
+                throw invalid("option 'exr_codec': expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" +
+                              v + "'");
+            render->m_output.exr_codec = v;
+        } else if (n == "passes") {
+            render->m_output.passes = parse_passes(v);
+            for (const std::string& p : render->m_output.passes)
+                if (veach::pass_needs_aovs(p)) render->m_job.film.aovs = true;
+        } else if (n == "checkpoint") render->m_job.checkpoint.path = v;
+        else throw invalid("option '" + n + "' is read-only");
         return VEACH_ERROR_NONE;
     });
 }
@@ -251,6 +319,14 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
         else if (n == "result_width") *value = r ? r->image.width : 0;
         else if (n == "result_height") *value = r ? r->image.height : 0;
         else if (n == "result_spp") *value = r ? r->stats.spp_done : 0;
+        else if (n == "bdpt_s") *value = job.render.bdpt_s;
+        else if (n == "bdpt_t") *value = job.render.bdpt_t;
+        else if (n == "resume") *value = job.checkpoint.resume ? 1 : 0;
+        else if (n == "result_resumed_spp") *value = r ? r->resumed_spp : 0;
+        else if (n == "result_complete") *value = r && render->m_result_complete ? 1 : 0;
+        else if (n == "result_camera_samples") *value = r ? static_cast<long long>(r->stats.camera_samples) : 0;
+        else if (n == "result_rays") *value = r ? static_cast<long long>(r->stats.rays) : 0;
+        else if (n == "result_nonfinite_samples") *value = r ? static_cast<long long>(r->stats.nonfinite_samples) : 0;
         return VEACH_ERROR_NONE;
     });
 }
@@ -270,7 +346,39 @@ VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double*
             else if (n == "gamma") *value = render->m_output.display.gamma;
             else if (n == "filter_width") *value = render->m_job.film.filter.width;
             else if (n == "render_seconds") *value = render->m_result ? render->m_result->render_seconds : 0.0;
+            else if (n == "build_seconds") *value = render->m_result ? render->m_result->build_seconds : 0.0;
+            else if (n == "noise") *value = render->m_job.render.noise_target;
+            else if (n == "checkpoint_interval")
+                *value = render->m_job.checkpoint.write ? render->m_job.checkpoint.interval_seconds : -1.0;
         }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* buffer, size_t size, size_t* length) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_render(render, "veachGetString");
+        check_kind(name, Kind::String);
+        if (!buffer && size > 0) throw invalid("veachGetString: null buffer");
+        std::string n = name, value;
+        std::lock_guard<std::mutex> lock(render->m_mutex);
+        const veach::RenderJobOptions& job = render->m_job;
+        const veach::OutputSettings& out = render->m_output;
+        const veach::RenderResult* r = render->m_result.get();
+        if (n == "integrator") value = job.render.integrator;
+        else if (n == "camera") value = job.camera;
+        else if (n == "filter") value = veach::filter_name(job.film.filter.type);
+        else if (n == "sampler") value = job.render.sampler == veach::SamplerKind::Random ? "random" : "sobol";
+        else if (n == "display") value = out.display.display;
+        else if (n == "view") value = out.display.view;
+        else if (n == "look") value = out.display.look;
+        else if (n == "exr_codec") value = out.exr_codec;
+        else if (n == "passes") value = join(out.passes, ",");
+        else if (n == "checkpoint") value = job.checkpoint.path;
+        else if (n == "result_camera") value = r ? r->camera_name : "";
+        else if (n == "result_integrator") value = r ? r->integrator : "";
+        else if (n == "result_warnings") value = r ? join(r->warnings, "\n") : "";
+        veach::capi::copy_string(value, buffer, size, length);
         return VEACH_ERROR_NONE;
     });
 }
@@ -401,21 +509,32 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path) {
         if (!path || !*path) throw invalid("veachWriteImage: empty path");
         std::shared_ptr<const veach::RenderResult> result;
         veach::OutputSettings settings;
-        std::string integrator;
-        uint64_t seed;
+        veach::RenderJobOptions job;  // the options the result was rendered with
+        bool complete;
         {
             std::lock_guard<std::mutex> lock(render->m_mutex);
             result = render->m_result;
             settings = render->m_output;
-            integrator = render->m_job.render.integrator;
-            seed = render->m_job.render.seed;
+            job = render->m_result_job;
+            complete = render->m_result_complete;
         }
         if (!result) throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachWriteImage: nothing rendered yet"};
-        settings.metadata["Software"] = std::string("veach ") + VEACH_VERSION_STRING;
-        settings.metadata["veach:camera"] = result->camera_name;
-        settings.metadata["veach:spp"] = std::to_string(result->stats.spp_done);
-        settings.metadata["veach:seed"] = std::to_string(seed);
-        settings.metadata["veach:integrator"] = integrator;
+        auto& meta = settings.metadata;
+        meta["Software"] = std::string("veach ") + VEACH_VERSION_STRING;
+        if (!render->m_scene->m_source.empty()) meta["veach:scene"] = render->m_scene->m_source;
+        meta["veach:camera"] = result->camera_name;
+        // The samples per pixel every pixel completed: after a cancel some pixels hold one more
+        // pass, which per-pixel averaging keeps unbiased.
+        meta["veach:spp"] = std::to_string(result->stats.spp_done);
+        meta["veach:spp_requested"] = std::to_string(job.render.spp);
+        meta["veach:complete"] = complete ? "yes" : "no";
+        meta["veach:seed"] = std::to_string(job.render.seed);
+        meta["veach:integrator"] = result->integrator;
+        char filter[64];
+        std::snprintf(filter, sizeof(filter), "%s %g", veach::filter_name(job.film.filter.type), job.film.filter.width);
+        meta["veach:filter"] = filter;
+        meta["veach:render_seconds"] = std::to_string(result->render_seconds);
+        if (result->resumed_spp > 0) meta["veach:resumed_spp"] = std::to_string(result->resumed_spp);
         veach::write_image(result->image, path, settings);
         return VEACH_ERROR_NONE;
     });

@@ -36,13 +36,8 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     if (options.render.spp < 1) throw std::invalid_argument("--spp must be at least 1");
     if (options.render.max_depth < 0) throw std::invalid_argument("--max-depth must not be negative");
     RenderResult result;
+    // Every integrator tracks the media of KHR_materials_volume (pt, bdpt and lt alike).
     RenderSettings chosen = options.render;
-    if (scene.features.volume && chosen.integrator != "pt") {
-        // Only the path tracer tracks the medium a path travels in (KHR_materials_volume);
-        // bdpt and lt would render absorbing glass as clear glass. Correct beats fast.
-        result.warnings.push_back("the scene uses KHR_materials_volume, which only --integrator pt renders; using pt");
-        chosen.integrator = "pt";
-    }
     result.integrator = chosen.integrator;
     std::unique_ptr<Integrator> integrator = make_integrator(chosen);
 
@@ -90,7 +85,9 @@ uint64_t render_settings_hash(const RenderJobOptions& options, const std::string
                       "|max_depth=" + std::to_string(r.max_depth) + "|strategy=" + std::to_string(r.bdpt_s) + "," +
                       std::to_string(r.bdpt_t) + "|filter=" + filter_name(options.film.filter.type) + ":" +
                       std::to_string(options.film.filter.width) + "|aovs=" + (options.film.aovs ? "1" : "0") +
-                      "|scene=" + std::to_string(options.checkpoint.scene_hash);
+                      "|scene=" + std::to_string(options.checkpoint.scene_hash) +
+                      "|sampler=" + std::to_string(static_cast<int>(r.sampler)) +
+                      "|noise=" + std::to_string(r.noise_target) + "," + std::to_string(r.min_spp);
     return fnv1a_64(key);
 }
 

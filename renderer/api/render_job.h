@@ -1,6 +1,6 @@
 // One render from a loaded scene to an image: picks the camera, prepares the BVH and lights,
-// runs the integrator and reports timings and stats. The front ends (CLI, C API) are thin layers
-// over this.
+// runs the integrator and reports timings and stats. The C API (api/c_api*.cpp) is a thin layer
+// over this, and every front end (the `veach` command included) goes through the C API.
 #pragma once
 
 #include <string>
@@ -46,7 +46,8 @@ struct RenderResult {
 const Camera* select_camera(const Scene& scene, const std::string& spec);
 
 // A hash of every setting that shapes the image (size, camera, seed, integrator, depth, filter,
-// passes, scene) but not of spp, time limit or threads: a checkpoint resumes under any of those.
+// passes, sampler, adaptive noise target, scene) but not of spp, time limit or threads: a
+// checkpoint resumes under any of those.
 uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height);
 
 // Renders; throws std::invalid_argument for bad settings, CheckpointError (film/film_checkpoint.h)

@@ -1,6 +1,7 @@
 #include "camera/camera_model.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace veach {
 
@@ -52,6 +53,13 @@ CameraModel::CameraModel(const Camera* camera, const Bounds3& bounds, int width,
         m_half_w = m_half_h * aspect;
     }
     m_plane_area = 4.0f * m_half_w * m_half_h;
+    m_pixel_size = 2.0f * m_half_h / static_cast<float>(std::max(1, m_height));
+}
+
+float CameraModel::footprint_width(float t, const Vec3& dir) const {
+    if (m_ortho) return m_pixel_size;
+    float c = std::max(0.0f, dot(dir, m_forward));
+    return t * m_pixel_size * c * std::sqrt(c);
 }
 
 void CameraModel::generate_ray(float fx, float fy, Vec3* origin, Vec3* dir) const {

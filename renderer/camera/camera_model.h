@@ -35,6 +35,15 @@ public:
     // 1 / (A cos^3).
     float pdf_dir_w(const Vec3& dir) const;
 
+    // Ray cones for texture filtering (Amanatides 1984; Akenine-Moller et al. 2019, "Texture
+    // Level of Detail Strategies for Real-Time Ray Tracing"): the angle one pixel spans at the
+    // image centre (perspective), 2 tan(yfov/2) / height, and the width of one pixel's cone at
+    // distance t along camera ray `dir` (unit). Off-axis a pixel spans the solid angle
+    // spread^2 cos^3(theta), so the cone's width is t spread cos^1.5(theta); an orthographic
+    // pixel is a tube of constant width.
+    float pixel_spread_angle() const { return m_ortho ? 0.0f : m_pixel_size; }
+    float footprint_width(float t, const Vec3& dir) const;
+
     // Default image height for a width: from the camera's aspect ratio (or 16:9).
     static int default_height(const Camera* camera, int width);
 
@@ -44,6 +53,7 @@ private:
     Vec3 m_origin, m_right, m_up, m_forward;  // world basis, unit
     float m_half_w = 1, m_half_h = 1;         // tan(fov/2) extents (perspective) or xmag/ymag
     float m_plane_area = 4;
+    float m_pixel_size = 0;  // a pixel's height on the image plane at distance 1 (or, orthographic, in the world)
 };
 
 }  // namespace veach

@@ -8,6 +8,8 @@ namespace veach {
 struct Rgb {
     float r = 0, g = 0, b = 0;
 
+    static float fmax_inline(float x, float y) { return (x > y || y != y) ? x : y; }
+
     constexpr Rgb() = default;
     constexpr Rgb(float r_, float g_, float b_) : r(r_), g(g_), b(b_) {}
     constexpr explicit Rgb(float v) : r(v), g(v), b(v) {}
@@ -15,7 +17,9 @@ struct Rgb {
     Rgb& operator*=(const Rgb& o) { r *= o.r; g *= o.g; b *= o.b; return *this; }
     Rgb& operator*=(float s) { r *= s; g *= s; b *= s; return *this; }
     bool is_black() const { return r == 0.0f && g == 0.0f && b == 0.0f; }
-    float max() const { return std::fmax(r, std::fmax(g, b)); }
+    // fmax's semantics (a NaN channel is ignored), written out: std::fmax is a libm call unless
+    // the compiler may assume no NaNs, and this runs several times per bounce.
+    float max() const { return fmax_inline(r, fmax_inline(g, b)); }
     float luminance() const { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
     float average() const { return (r + g + b) * (1.0f / 3.0f); }
     bool is_finite() const { return std::isfinite(r) && std::isfinite(g) && std::isfinite(b); }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace veach {
 
@@ -45,7 +46,9 @@ void Film::add_splat(float fx, float fy, const Rgb& value) {
         atomic_add(m_splats[i + 0], value.r);
         atomic_add(m_splats[i + 1], value.g);
         atomic_add(m_splats[i + 2], value.b);
-        m_has_splats.store(true, std::memory_order_relaxed);
+        // Read before writing: a store on every splat would bounce the flag's cache line
+        // between the threads.
+        if (!m_has_splats.load(std::memory_order_relaxed)) m_has_splats.store(true, std::memory_order_relaxed);
         return;
     }
     // Pixel (x, y) estimates the integral of f(p - c) L(p) dp with c = (x + 0.5, y + 0.5): a
@@ -71,7 +74,25 @@ void Film::add_splat(float fx, float fy, const Rgb& value) {
             any = true;
         }
     }
-    if (any) m_has_splats.store(true, std::memory_order_relaxed);
+    if (any && !m_has_splats.load(std::memory_order_relaxed)) m_has_splats.store(true, std::memory_order_relaxed);
+}
+
+void Film::set_sample_plan(std::vector<uint32_t> plan, float target, int pilot_spp) {
+    m_plan = std::move(plan);
+    m_plan_target = target;
+    m_plan_pilot_spp = pilot_spp;
+    m_pilot_splats.resize(m_pixels.size() * 3);
+    for (size_t i = 0; i < m_pilot_splats.size(); ++i) {
+        m_pilot_splats[i] = m_splats[i].load(std::memory_order_relaxed);
+        m_splats[i].store(0.0, std::memory_order_relaxed);
+    }
+}
+
+uint64_t Film::planned_total(uint64_t spp) const {
+    if (m_plan.empty()) return spp * m_pixels.size();
+    uint64_t total = 0;
+    for (uint32_t budget : m_plan) total += std::min<uint64_t>(budget, spp);
+    return total;
 }
 
 Image Film::resolve(double splat_spp) const {
@@ -81,13 +102,32 @@ Image Film::resolve(double splat_spp) const {
     const size_t n = m_pixels.size();
     img.rgba.resize(n * 4);
     img.variance.resize(n * 3);
-    double splat_scale = splat_spp > 0.0 ? 1.0 / splat_spp : 0.0;
+    img.sample_count.resize(n);
+    // Splats: every camera sample traced one light path, each an independent estimate of the
+    // whole light-tracing image, so the sum over L paths divided by L / pixels is unbiased as long
+    // as L does not depend on the paths' values. Without a plan L = spp x pixels. With one, the
+    // number of paths after the pilot depends on the plan, which the pilot's paths helped make
+    // (bdpt's camera values include connections to them), so the two groups are weighed apart
+    // with a weight fixed in advance: alpha = pilot / spp for the pilot's paths (pilot x pixels of
+    // them), 1 - alpha for the later ones (L_post of them, independent of the plan that counted
+    // them). With no pixel stopped this is exactly (pilot + post) / spp, the plain average.
+    double pilot_scale = 0.0, splat_scale = splat_spp > 0.0 ? 1.0 / splat_spp : 0.0;
+    if (!m_plan.empty() && splat_spp > 0.0) {
+        const double pilot = m_plan_pilot_spp, alpha = std::min(1.0, pilot / splat_spp);
+        const double post = static_cast<double>(planned_total(static_cast<uint64_t>(splat_spp))) -
+                            pilot * static_cast<double>(n);
+        // No path after the pilot (every pixel stopped there): the pilot's paths alone.
+        pilot_scale = post > 0.0 ? alpha / pilot : 1.0 / pilot;
+        splat_scale = post > 0.0 ? (1.0 - alpha) * static_cast<double>(n) / post : 0.0;
+    }
     for (size_t i = 0; i < n; ++i) {
         const Pixel& p = m_pixels[i];
         double inv = p.weight > 0.0 ? 1.0 / p.weight : 0.0;
+        img.sample_count[i] = static_cast<float>(p.weight);
         for (int c = 0; c < 3; ++c) {
             double mean = p.sum[c] * inv;
             double v = mean + m_splats[i * 3 + c].load(std::memory_order_relaxed) * splat_scale;
+            if (!m_pilot_splats.empty()) v += m_pilot_splats[i * 3 + c] * pilot_scale;
             img.rgba[i * 4 + c] = static_cast<float>(v);
             // The unbiased sample variance s^2 = (sum x^2 - n mean^2) / (n - 1), divided by n:
             // the variance of the pixel's mean (camera samples only: splats are not per pixel).
@@ -119,9 +159,9 @@ constexpr size_t k_pixel_doubles = 7;  // sum[3], sum_sq[3], weight
 constexpr size_t k_aov_doubles = 8;    // normal[3], albedo[3], depth, count
 }  // namespace
 
-size_t Film::state_size() const {
+size_t Film::state_size(bool with_plan) const {
     size_t n = m_pixels.size();
-    return n * k_pixel_doubles + m_aovs.size() * k_aov_doubles + n * 3;
+    return n * k_pixel_doubles + m_aovs.size() * k_aov_doubles + n * 3 + (with_plan ? 2 + n * 4 : 0);
 }
 
 void Film::save_state(double* out) const {
@@ -137,9 +177,16 @@ void Film::save_state(double* out) const {
         *out++ = a.count;
     }
     for (size_t i = 0; i < m_pixels.size() * 3; ++i) *out++ = m_splats[i].load(std::memory_order_relaxed);
+    if (m_plan.empty()) return;
+    *out++ = m_plan_target;
+    *out++ = m_plan_pilot_spp;
+    for (uint32_t budget : m_plan) *out++ = budget;
+    for (double v : m_pilot_splats) *out++ = v;
 }
 
-void Film::load_state(const double* in) {
+void Film::load_state(const double* in, size_t count) {
+    const bool with_plan = count == state_size(true);
+    if (!with_plan && count != state_size(false)) throw std::invalid_argument("film state of the wrong size");
     for (Pixel& p : m_pixels) {
         for (int c = 0; c < 3; ++c) p.sum[c] = *in++;
         for (int c = 0; c < 3; ++c) p.sum_sq[c] = *in++;
@@ -156,6 +203,18 @@ void Film::load_state(const double* in) {
         m_splats[i].store(*in, std::memory_order_relaxed);
         any = any || *in != 0.0;
         ++in;
+    }
+    m_plan.clear();
+    m_pilot_splats.clear();
+    m_plan_target = 0;
+    m_plan_pilot_spp = 0;
+    if (with_plan) {
+        m_plan_target = static_cast<float>(*in++);
+        m_plan_pilot_spp = static_cast<int>(*in++);
+        m_plan.resize(m_pixels.size());
+        for (uint32_t& budget : m_plan) budget = static_cast<uint32_t>(*in++);
+        m_pilot_splats.assign(in, in + m_pixels.size() * 3);
+        for (double v : m_pilot_splats) any = any || v != 0.0;
     }
     m_has_splats.store(any, std::memory_order_relaxed);
 }

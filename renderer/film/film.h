@@ -4,6 +4,9 @@
 // over the pixels whose filter covers them, in a separate channel of atomic doubles scaled by
 // 1/spp when the image is read. Optional first-hit AOVs (depth, normal, albedo) ride along with
 // camera samples for Blender-style render passes, and sums of squares give a variance pass.
+// Adaptive sampling (film/adaptive_sampling.h) leaves a per-pixel sample budget here: each pixel
+// is divided by its own sample count, and the splats are split at the moment the budget was set
+// (see resolve()).
 #pragma once
 
 #include <atomic>
@@ -26,6 +29,9 @@ struct Image {
     std::vector<float> normal;    // 3 per pixel: world-space shading normal, sample average
     std::vector<float> albedo;    // 3 per pixel: base colour at the first hit, sample average
     std::vector<float> variance;  // 3 per pixel: estimated variance of the pixel's mean
+    // 1 per pixel: the camera samples averaged into the pixel (fewer than spp where adaptive
+    // sampling stopped it early, or where a non-finite sample was dropped).
+    std::vector<float> sample_count;
     float* pixel(int x, int y) { return &rgba[(static_cast<size_t>(y) * width + x) * 4]; }
     const float* pixel(int x, int y) const { return &rgba[(static_cast<size_t>(y) * width + x) * 4]; }
 };
@@ -85,23 +91,47 @@ public:
     void add_splat(float fx, float fy, const Rgb& value);
     bool has_splats() const { return m_has_splats.load(std::memory_order_relaxed); }
 
-    // Pixel values: camera samples averaged, plus splats divided by `splat_spp` (the number of
-    // light paths per pixel traced); the passes the film recorded.
+    // Pixel values: camera samples averaged, plus splats divided by `splat_spp` (the sample
+    // index every unstopped pixel reached: one light path per camera sample); the passes the film
+    // recorded. With a sample plan, splats are weighted as explained in film.cpp.
     Image resolve(double splat_spp) const;
 
-    // Checkpoints: the whole accumulated state as doubles in a fixed layout (per pixel: sums,
-    // sums of squares, sample count, then the AOV sums when recorded, then the splats). Only
-    // while no thread renders.
-    size_t state_size() const;
-    void save_state(double* out) const;
-    void load_state(const double* in);
-
-private:
-    struct Pixel {
+    // What a pixel has accumulated (camera samples only).
+    struct PixelSums {
         double sum[3] = {0, 0, 0};
         double sum_sq[3] = {0, 0, 0};
-        double weight = 0;
+        double weight = 0;  // finite samples added
     };
+    const PixelSums& pixel_sums(int x, int y) const { return m_pixels[static_cast<size_t>(y) * m_width + x]; }
+
+    // Adaptive sampling's per-pixel budget: pixel i takes samples [0, planned_samples(i)) and no
+    // more. Set once, at a pass boundary where every pixel holds exactly `pilot_spp` samples; the
+    // splats gathered so far are set aside as the pilot's (resolve() weighs them apart from the
+    // later ones, whose number depends on the plan). `target` is kept to refuse resuming with
+    // another one. Only while no thread renders.
+    void set_sample_plan(std::vector<uint32_t> plan, float target, int pilot_spp);
+    bool has_sample_plan() const { return !m_plan.empty(); }
+    uint32_t planned_samples(int x, int y) const {
+        return m_plan.empty() ? UINT32_MAX : m_plan[static_cast<size_t>(y) * m_width + x];
+    }
+    float plan_target() const { return m_plan_target; }
+    int plan_pilot_spp() const { return m_plan_pilot_spp; }
+    // Camera samples pixel i has taken (or will have taken) once every unstopped pixel reaches
+    // sample index `spp`, summed over the image.
+    uint64_t planned_total(uint64_t spp) const;
+
+    // Checkpoints: the whole accumulated state as doubles in a fixed layout (per pixel: sums,
+    // sums of squares, sample count, then the AOV sums when recorded, then the splats, then,
+    // with a sample plan, its target, pilot spp, per-pixel budgets and the pilot's splats).
+    // Only while no thread renders. load_state takes the number of doubles, which says whether
+    // a plan is included: state_size(false) or state_size(true).
+    size_t state_size() const { return state_size(has_sample_plan()); }
+    size_t state_size(bool with_plan) const;
+    void save_state(double* out) const;
+    void load_state(const double* in, size_t count);
+
+private:
+    using Pixel = PixelSums;
     struct AovSums {
         double normal[3] = {0, 0, 0};
         double albedo[3] = {0, 0, 0};
@@ -117,6 +147,10 @@ private:
     std::vector<AovSums> m_aovs;  // empty unless settings.aovs
     std::unique_ptr<std::atomic<double>[]> m_splats;  // 3 per pixel
     std::atomic<bool> m_has_splats{false};
+    std::vector<uint32_t> m_plan;        // empty: no adaptive sampling
+    std::vector<double> m_pilot_splats;  // 3 per pixel, with a plan
+    float m_plan_target = 0;
+    int m_plan_pilot_spp = 0;
 };
 
 }  // namespace veach

@@ -97,17 +97,18 @@ int read_film_checkpoint(const std::string& path, Film& film, uint64_t settings_
     if (h.width != static_cast<uint32_t>(film.width()) || h.height != static_cast<uint32_t>(film.height()))
         fail(path, "checkpoint is " + std::to_string(h.width) + "x" + std::to_string(h.height) + ", the render " +
                        std::to_string(film.width()) + "x" + std::to_string(film.height()));
+    // With adaptive sampling the film's state carries the sample plan once it has been made.
     if (h.settings_hash != settings_hash || h.aovs != (film.wants_aovs() ? 1u : 0u) ||
-        h.state_doubles != film.state_size())
+        (h.state_doubles != film.state_size(false) && h.state_doubles != film.state_size(true)))
         fail(path, "checkpoint was made with other settings or another scene (delete it to start afresh)");
     if (h.spp_done < 0) fail(path, "corrupt checkpoint (negative spp)");
-    std::vector<double> state(film.state_size());
+    std::vector<double> state(h.state_doubles);
     char end[8] = {};
     if (std::fread(state.data(), sizeof(double), state.size(), f.get()) != state.size() ||
         std::fread(end, sizeof(end), 1, f.get()) != 1 || std::memcmp(end, k_end, sizeof(k_end)) != 0 ||
         std::fgetc(f.get()) != EOF)
         fail(path, "truncated or corrupt checkpoint");
-    film.load_state(state.data());
+    film.load_state(state.data(), state.size());
     return h.spp_done;
 }
 

@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
+#include "film/adaptive_sampling.h"
 #include "integrators/bdpt/bidirectional_tracer.h"
 #include "integrators/pt/path_tracer.h"
 
@@ -37,11 +40,61 @@ constexpr int k_tile_size = 16;
 constexpr int k_max_pass_spp = 16;
 }  // namespace
 
+namespace {
+
+// Renders samples [begin, end) of a tile, each pixel capped by its adaptive budget: runs of
+// pixels in a row that share a cap go to the integrator as one-row tiles (the integrators key
+// randomness by pixel, so the split changes nothing but the call count). Returns the camera
+// samples taken.
+uint64_t render_planned_tile(const RenderScene& rs, const Integrator& integrator, const Tile& tile, uint32_t begin,
+                             uint32_t end, Film& film, ThreadStats& ts) {
+    const uint64_t area = static_cast<uint64_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
+    bool all_full = true;
+    for (int y = tile.y0; y < tile.y1 && all_full; ++y)
+        for (int x = tile.x0; x < tile.x1 && all_full; ++x) all_full = film.planned_samples(x, y) >= end;
+    if (all_full) {
+        integrator.render_tile(rs, tile, begin, end, film, ts);
+        return area * (end - begin);
+    }
+    uint64_t taken = 0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1;) {
+            const uint32_t e = std::min(end, film.planned_samples(x, y));
+            int x1 = x + 1;
+            while (x1 < tile.x1 && std::min(end, film.planned_samples(x1, y)) == e) ++x1;
+            if (e > begin) {
+                integrator.render_tile(rs, Tile{x, y, x1, y + 1}, begin, e, film, ts);
+                taken += static_cast<uint64_t>(x1 - x) * (e - begin);
+            }
+            x = x1;
+        }
+    }
+    return taken;
+}
+
+}  // namespace
+
 RenderStats render_image(const RenderScene& rs, const Integrator& integrator, const RenderSettings& settings,
                          Film& film, const RenderControl& control) {
     using clock = std::chrono::steady_clock;
     auto start = clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - start).count(); };
+
+    if (!std::isfinite(settings.noise_target) || settings.noise_target < 0)
+        throw std::invalid_argument("--noise must be a finite number, at least 0");
+    if (settings.min_spp < 0) throw std::invalid_argument("the adaptive pilot (min spp) must not be negative");
+    const bool adaptive = settings.noise_target > 0 && settings.integrator != "lt";
+    if (film.has_sample_plan() && (!adaptive || film.plan_target() != settings.noise_target)) {
+        char target[32];
+        std::snprintf(target, sizeof(target), "%g", static_cast<double>(film.plan_target()));
+        throw std::invalid_argument(std::string("the checkpoint was made with adaptive sampling at --noise ") + target +
+                                    "; resume with the same --noise and integrator (or delete it)");
+    }
+    // The pilot: enough samples for a usable variance estimate (the largest need among eight
+    // neighbours makes up for a noisy one), few enough to leave time to spend where the noise is.
+    // Fixed rather than grown with spp: with a time limit spp is only a cap.
+    const int pilot_spp = std::max(2, settings.min_spp > 0 ? settings.min_spp : 16);
+    const uint64_t pixels = static_cast<uint64_t>(film.width()) * film.height();
 
     std::vector<Tile> tiles;
     for (int y = 0; y < film.height(); y += k_tile_size)
@@ -52,30 +105,53 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
     tbb::task_arena arena(threads);
 
     RenderStats stats;
-    std::atomic<uint64_t> rays{0}, nonfinite{0};
+    std::atomic<uint64_t> rays{0}, nonfinite{0}, pass_samples{0};
     std::atomic<bool> stop_tiles{false};
     auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };
 
     int done = std::clamp(control.first_sample, 0, settings.spp);
+    // The largest budget of the plan: past it no pixel takes samples, and the render is complete.
+    uint32_t max_budget = UINT32_MAX;
+    auto update_plan = [&] {
+        if (adaptive && !film.has_sample_plan() && done >= pilot_spp && done < settings.spp)
+            film.set_sample_plan(plan_adaptive_samples(film, settings.noise_target, done), settings.noise_target, done);
+        if (!film.has_sample_plan()) return;
+        max_budget = 0;
+        for (int y = 0; y < film.height(); ++y)
+            for (int x = 0; x < film.width(); ++x) max_budget = std::max(max_budget, film.planned_samples(x, y));
+        if (static_cast<uint64_t>(done) >= max_budget) done = settings.spp;
+    };
+    update_plan();  // a resumed render: the plan in the checkpoint, or one made from its samples
+    auto active_pixels = [&] {
+        if (!film.has_sample_plan()) return pixels;
+        uint64_t active = 0;
+        for (int y = 0; y < film.height(); ++y)
+            for (int x = 0; x < film.width(); ++x) active += film.planned_samples(x, y) > static_cast<uint32_t>(done);
+        return active;
+    };
+
     int pass = 1;
     // A resumed render continues the pass schedule where it stood (the sums do not depend on it:
     // each pixel adds its samples in index order whatever the passes, so resuming is exact).
     for (int s = 0; s < done; pass = std::min(pass * 2, k_max_pass_spp)) s += std::min(pass, k_max_pass_spp);
-    double seconds_per_spp = 0;
+    double seconds_per_sample = 0;  // per camera sample (one pixel, one sample index)
     while (done < settings.spp && !cancelled()) {
         int n = std::min({pass, k_max_pass_spp, settings.spp - done});
+        // The pilot ends on a pass boundary, where the plan is made.
+        if (adaptive && !film.has_sample_plan() && done < pilot_spp) n = std::min(n, pilot_spp - done);
         if (settings.time_limit > 0) {
             double left = settings.time_limit - elapsed();
             if (left <= 0) break;
-            if (seconds_per_spp > 0) {
+            if (seconds_per_sample > 0) {
                 // In double: a long time limit over a fast pass does not fit in an int.
-                double fits = left / seconds_per_spp;
+                double fits = left / (seconds_per_sample * static_cast<double>(std::max<uint64_t>(1, active_pixels())));
                 if (fits < 1.0) break;
                 if (fits < n) n = static_cast<int>(fits);
             }
         }
         double pass_start = elapsed();
         uint32_t begin = static_cast<uint32_t>(done), end = static_cast<uint32_t>(done + n);
+        pass_samples = 0;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
                 for (size_t t = r.begin(); t != r.end(); ++t) {
@@ -84,7 +160,8 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
                         return;
                     }
                     ThreadStats ts;
-                    integrator.render_tile(rs, tiles[t], begin, end, film, ts);
+                    uint64_t taken = render_planned_tile(rs, integrator, tiles[t], begin, end, film, ts);
+                    pass_samples.fetch_add(taken, std::memory_order_relaxed);
                     rays.fetch_add(ts.rays, std::memory_order_relaxed);
                     nonfinite.fetch_add(ts.nonfinite, std::memory_order_relaxed);
                 }
@@ -92,12 +169,15 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
         });
         if (stop_tiles) break;
         done += n;
-        seconds_per_spp = (elapsed() - pass_start) / n;
+        if (pass_samples > 0) seconds_per_sample = (elapsed() - pass_start) / static_cast<double>(pass_samples.load());
         pass = std::min(pass * 2, k_max_pass_spp);
+        update_plan();
         if (control.pass_done) control.pass_done(done);
         if (control.progress) {
-            double fraction = static_cast<double>(done) / settings.spp;
-            double eta = seconds_per_spp * (settings.spp - done);
+            const double total = static_cast<double>(film.planned_total(settings.spp));
+            const double taken = static_cast<double>(film.planned_total(done));
+            double fraction = total > 0 ? taken / total : 1.0;
+            double eta = seconds_per_sample * (total - taken);
             if (settings.time_limit > 0) {
                 fraction = std::max(fraction, std::min(1.0, elapsed() / settings.time_limit));
                 eta = std::min(eta, std::max(0.0, settings.time_limit - elapsed()));
@@ -109,7 +189,8 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
     stats.cancelled = cancelled();
     stats.rays = rays.load();
     stats.nonfinite_samples = nonfinite.load();
-    stats.camera_samples = static_cast<uint64_t>(done) * film.width() * film.height();
+    stats.camera_samples = film.planned_total(static_cast<uint64_t>(done));
+    stats.mean_spp = pixels > 0 ? static_cast<double>(stats.camera_samples) / static_cast<double>(pixels) : 0.0;
     stats.seconds = elapsed();
     return stats;
 }

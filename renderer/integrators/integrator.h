@@ -25,17 +25,25 @@ struct RenderSettings {
     std::string integrator = "bdpt";  // bdpt, pt or lt
     int bdpt_s = -1, bdpt_t = -1;      // bdpt: render only strategy (s, t), unweighted
     SamplerKind sampler = SamplerKind::Sobol;  // Owen-scrambled Sobol pairs, or independent
+    // Adaptive sampling (film/adaptive_sampling.h): 0 = off; else the relative error at which a
+    // pixel stops taking samples (spp stays the most any pixel takes). After a pilot of min_spp
+    // samples in every pixel, each pixel gets a budget from its neighbours' pilot noise. Ignored
+    // by lt, whose pixels hold no camera-sample values to judge (every contribution is a splat).
+    float noise_target = 0;
+    int min_spp = 0;  // samples of the pilot; 0 = automatic (16)
 };
 
 struct RenderControl {
     // Called on the calling thread after each pass: fraction done in [0, 1], seconds left.
     std::function<void(double fraction, double eta_seconds)> progress;
     const std::atomic<bool>* cancel = nullptr;  // set from anywhere to stop soon
-    // Resuming: the film already holds samples [0, first_sample) of every pixel (a checkpoint);
+    // Resuming: the film already holds samples [0, first_sample) of every pixel (a checkpoint;
+    // with adaptive sampling, [0, min(first_sample, its budget)), the budgets in the film);
     // rendering continues with sample index first_sample, so the sums equal an uninterrupted run.
     int first_sample = 0;
     // Called on the calling thread after each complete pass, while no tile renders (the film is
-    // consistent: every pixel holds exactly `spp_done` samples): the moment to checkpoint.
+    // consistent: every pixel holds exactly `spp_done` samples, or its adaptive budget if
+    // smaller): the moment to checkpoint.
     std::function<void(int spp_done)> pass_done;
 };
 
@@ -43,7 +51,8 @@ struct RenderStats {
     uint64_t camera_samples = 0;
     uint64_t rays = 0;
     uint64_t nonfinite_samples = 0;
-    int spp_done = 0;       // samples per pixel completed in every pixel
+    int spp_done = 0;       // samples per pixel completed in every pixel (adaptive: or its budget)
+    double mean_spp = 0;    // camera samples per pixel actually taken, averaged over the image
     double seconds = 0;
     bool cancelled = false;
 };
@@ -61,7 +70,8 @@ struct Tile {
 class Integrator {
 public:
     virtual ~Integrator() = default;
-    // Renders samples [sample_begin, sample_end) of every pixel in `tile` into the film.
+    // Renders samples [sample_begin, sample_end) of every pixel in `tile` into the film. With
+    // adaptive sampling the driver passes one-row runs of pixels that share a sample range.
     virtual void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin,
                              uint32_t sample_end, Film& film, ThreadStats& stats) const = 0;
 };

@@ -21,8 +21,11 @@ struct SurfaceHit {
     float b1 = 0, b2 = 0;  // barycentrics
 };
 
-// Fills a SurfaceHit from an Embree hit.
-SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit);
+// Fills a SurfaceHit from an Embree hit. `footprint_width` is the width of the ray's cone where it
+// hits, for texture filtering (CameraModel::footprint_width for camera rays); it sets
+// attr.uv_footprint (see set_uv_footprint in surface_hit.cpp). 0, the default, means no
+// footprint: textures are read at full resolution.
+SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float footprint_width = 0.0f);
 
 // A ray origin on the side of the surface that `w` points to, offset just past the position's
 // error bound (pbrt-v3 section 3.9): relative to the coordinates' magnitude, so scale-invariant.

@@ -22,23 +22,35 @@ GltfBsdf::GltfBsdf(const ShadingInputs& in, float eta)
     m_w_opaque = (1.0f - metallic) * (1.0f - t);
     m_w_trans = (1.0f - metallic) * t;
     m_delta = m_alpha < k_delta_alpha;
+    m_coat = clamp(in.clearcoat, 0.0f, 1.0f);
+    m_sheen_color = Rgb(std::max(0.0f, in.sheen_color.r), std::max(0.0f, in.sheen_color.g),
+                        std::max(0.0f, in.sheen_color.b));
+    m_sheen_max = std::min(1.0f, m_sheen_color.max());
+    // No metal, no transmission, a specular layer with F0 = F90 = 0 (which reflects nothing at
+    // any angle, nor loses anything to multiple scattering: E_spec = 0), no coat, no sheen: the
+    // layered diffuse below is then exactly base / pi, and nothing else needs building.
+    m_lambert = m_w_metal <= 0.0f && m_w_trans <= 0.0f && in.dielectric_f0.is_black() && in.dielectric_f90 <= 0.0f &&
+                m_coat <= 0.0f && m_sheen_max <= 0.0f;
+    m_black = m_lambert && m_base.is_black();
+    if (m_lambert) {
+        m_diffuse_norm = m_base * k_inv_pi;
+        return;
+    }
     m_metal = MicrofacetReflection(m_base, Rgb(1.0f), m_alpha, m_delta);
     m_specular = MicrofacetReflection(in.dielectric_f0, Rgb(in.dielectric_f90), m_alpha, m_delta);
     Rgb avg = m_specular.average_albedo();
     auto norm = [](float base, float e_avg) { return e_avg < 1.0f ? base * k_inv_pi / (1.0f - e_avg) : 0.0f; };
     m_diffuse_norm = Rgb(norm(m_base.r, avg.r), norm(m_base.g, avg.g), norm(m_base.b, avg.b));
-    m_coat = clamp(in.clearcoat, 0.0f, 1.0f);
-    m_coat_alpha = std::max(in.clearcoat_alpha, k_min_ggx_alpha);
-    m_coat_delta = m_coat_alpha < k_delta_alpha;
-    // Clearcoat: ior 1.5, F0 = ((1.5 - 1) / (1.5 + 1))^2 = 0.04 (the extension's fixed value).
-    m_coat_lobe = MicrofacetReflection(Rgb(0.04f), Rgb(1.0f), m_coat_alpha, m_coat_delta);
-    m_sheen_color = Rgb(std::max(0.0f, in.sheen_color.r), std::max(0.0f, in.sheen_color.g),
-                        std::max(0.0f, in.sheen_color.b));
-    m_sheen_max = std::min(1.0f, m_sheen_color.max());
-    m_sheen_roughness = in.sheen_roughness;
-    m_sheen_alpha = sheen_alpha(in.sheen_roughness);
-    m_black = m_w_metal <= 0.0f && m_w_trans <= 0.0f && m_base.is_black() && in.dielectric_f0.is_black() &&
-              in.dielectric_f90 <= 0.0f && m_coat <= 0.0f && m_sheen_max <= 0.0f;
+    if (m_coat > 0.0f) {
+        m_coat_alpha = std::max(in.clearcoat_alpha, k_min_ggx_alpha);
+        m_coat_delta = m_coat_alpha < k_delta_alpha;
+        // Clearcoat: ior 1.5, F0 = ((1.5 - 1) / (1.5 + 1))^2 = 0.04 (the extension's fixed value).
+        m_coat_lobe = MicrofacetReflection(Rgb(0.04f), Rgb(1.0f), m_coat_alpha, m_coat_delta);
+    }
+    if (m_sheen_max > 0.0f) {
+        m_sheen_roughness = in.sheen_roughness;
+        m_sheen_alpha = sheen_alpha(in.sheen_roughness);
+    }
 }
 
 float GltfBsdf::coat_albedo(float mu) const {
@@ -51,10 +63,26 @@ float GltfBsdf::sheen_albedo_max(float mu) const {
     return m_sheen_max > 0.0f ? m_sheen_max * sheen_albedo(mu, m_sheen_roughness) : 0.0f;
 }
 
-float GltfBsdf::base_scale(float mu_o, float mu_i) const {
-    float coat = std::min(1.0f - coat_albedo(mu_o), 1.0f - coat_albedo(mu_i));
-    float sheen = std::min(1.0f - sheen_albedo_max(mu_o), 1.0f - sheen_albedo_max(mu_i));
+float GltfBsdf::base_scale(const Outgoing& o, float mu_i) const {
+    if (m_coat <= 0.0f && m_sheen_max <= 0.0f) return 1.0f;
+    float coat = std::min(1.0f - o.coat, 1.0f - coat_albedo(mu_i));
+    float sheen = std::min(1.0f - o.sheen, 1.0f - sheen_albedo_max(mu_i));
     return std::max(0.0f, coat) * std::max(0.0f, sheen);
+}
+
+GltfBsdf::Outgoing GltfBsdf::outgoing(float mu_o) const {
+    Outgoing o;
+    o.mu = mu_o;
+    o.e = ggx_albedo(mu_o, m_alpha);
+    if (m_coat > 0.0f && !m_coat_delta) o.e_coat = ggx_albedo(mu_o, m_coat_alpha);
+    o.diffuse_factor = diffuse_albedo_factor(o.e);
+    // The coat's albedo from the lookup just made (coat_albedo() would repeat it).
+    o.coat = m_coat <= 0.0f ? 0.0f
+             : m_coat_delta ? m_coat * m_coat_lobe.fresnel(mu_o).r
+                            : m_coat * m_coat_lobe.albedo(o.e_coat).r;
+    o.sheen = sheen_albedo_max(mu_o);
+    o.p = probabilities(mu_o, o);
+    return o;
 }
 
 Rgb GltfBsdf::diffuse_albedo_factor(const GgxAlbedo& e) const {
@@ -62,18 +90,19 @@ Rgb GltfBsdf::diffuse_albedo_factor(const GgxAlbedo& e) const {
     return Rgb(std::max(0.0f, 1.0f - a.r), std::max(0.0f, 1.0f - a.g), std::max(0.0f, 1.0f - a.b));
 }
 
-GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const GgxAlbedo& e_o) const {
+GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const Outgoing& o) const {
     LobeProbabilities p;
+    const GgxAlbedo& e_o = o.e;
     Rgb metal_single = m_delta ? m_metal.fresnel(mu_o) : m_metal.single_scattering_albedo(e_o);
     Rgb spec_single = m_delta ? m_specular.fresnel(mu_o) : m_specular.single_scattering_albedo(e_o);
     p.spec = m_w_metal * metal_single.average() + m_w_opaque * spec_single.average();
     p.cosine = m_w_metal * m_metal.multiple_scattering_albedo(e_o).average() +
                m_w_opaque * (m_specular.multiple_scattering_albedo(e_o).average() +
-                             (m_base * diffuse_albedo_factor(e_o)).average());
+                             (m_base * o.diffuse_factor).average());
     p.trans = m_w_trans;
     // The layers on top: everything beneath is dimmed by them, the sheen is sampled by the
     // cosine lobe, the coat by its own visible normals.
-    float coat_o = coat_albedo(mu_o), sheen_o = sheen_albedo_max(mu_o);
+    float coat_o = o.coat, sheen_o = o.sheen;
     float beneath = (1.0f - coat_o) * (1.0f - sheen_o);
     p.spec *= beneath;
     p.cosine = p.cosine * beneath + (1.0f - coat_o) * sheen_o;
@@ -103,28 +132,27 @@ GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const GgxAlbedo&
 }
 
 // wo.z > 0 here; eta is the relative index below.
-Rgb GltfBsdf::eval_upper(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) const {
-    Rgb f = eval_base(wo, wi, eta, mode);
+Rgb GltfBsdf::eval_upper(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode, const Outgoing& o) const {
+    Rgb f = eval_base(wo, wi, eta, mode, o);
     if (m_coat <= 0.0f && m_sheen_max <= 0.0f) return f;
-    f *= base_scale(wo.z, std::fabs(wi.z));
+    f *= base_scale(o, std::fabs(wi.z));
     if (wi.z > 0.0f) {
-        float coat_scale = std::min(1.0f - coat_albedo(wo.z), 1.0f - coat_albedo(wi.z));
+        float coat_scale = std::min(1.0f - o.coat, 1.0f - coat_albedo(wi.z));
         if (m_sheen_max > 0.0f) f += m_sheen_color * (sheen_eval(wo, wi, m_sheen_alpha) * coat_scale);
-        if (m_coat > 0.0f && !m_coat_delta) {
-            GgxAlbedo e_o = ggx_albedo(wo.z, m_coat_alpha), e_i = ggx_albedo(wi.z, m_coat_alpha);
-            f += m_coat_lobe.eval(wo, wi, e_o, e_i) * m_coat;
-        }
+        if (m_coat > 0.0f && !m_coat_delta)
+            f += m_coat_lobe.eval(wo, wi, o.e_coat, ggx_albedo(wi.z, m_coat_alpha)) * m_coat;
     }
     return f;
 }
 
-Rgb GltfBsdf::eval_base(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) const {
+Rgb GltfBsdf::eval_base(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode, const Outgoing& o) const {
     if (wi.z > 0.0f) {
-        GgxAlbedo e_o = ggx_albedo(wo.z, m_alpha), e_i = ggx_albedo(wi.z, m_alpha);
+        const GgxAlbedo& e_o = o.e;
+        GgxAlbedo e_i = ggx_albedo(wi.z, m_alpha);
         Rgb f(0.0f);
         if (m_w_metal > 0.0f) f += m_metal.eval(wo, wi, e_o, e_i) * m_w_metal;
         if (m_w_opaque > 0.0f) {
-            Rgb diffuse = m_diffuse_norm * diffuse_albedo_factor(e_o) * diffuse_albedo_factor(e_i);
+            Rgb diffuse = m_diffuse_norm * o.diffuse_factor * diffuse_albedo_factor(e_i);
             f += (m_specular.eval(wo, wi, e_o, e_i) + diffuse) * m_w_opaque;
         }
         if (m_w_trans > 0.0f && !m_delta)
@@ -136,8 +164,8 @@ Rgb GltfBsdf::eval_base(const Vec3& wo, const Vec3& wi, float eta, TransportMode
     return Rgb(0.0f);
 }
 
-float GltfBsdf::pdf_upper(const Vec3& wo, const Vec3& wi, float eta) const {
-    LobeProbabilities p = probabilities(wo.z, ggx_albedo(wo.z, m_alpha));
+float GltfBsdf::pdf_upper(const Vec3& wo, const Vec3& wi, float eta, const Outgoing& o) const {
+    const LobeProbabilities& p = o.p;
     float pdf = 0.0f;
     if (wi.z > 0.0f) {
         if (p.spec > 0.0f && !m_delta) pdf += p.spec * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_alpha);
@@ -151,7 +179,8 @@ float GltfBsdf::pdf_upper(const Vec3& wo, const Vec3& wi, float eta) const {
 
 // Every smooth reflection lobe sends wo to the same mirror direction, so the sample's weight is
 // the sum of their Fresnel masses over the sum of their probabilities of choosing it.
-void GltfBsdf::mirror_sample(const Vec3& wo, float eta, const LobeProbabilities& p, BsdfSample* out) const {
+void GltfBsdf::mirror_sample(const Vec3& wo, float eta, const Outgoing& o, BsdfSample* out) const {
+    const LobeProbabilities& p = o.p;
     Rgb mass(0.0f);
     float prob = 0.0f;
     if (m_coat > 0.0f && m_coat_delta) {
@@ -161,7 +190,7 @@ void GltfBsdf::mirror_sample(const Vec3& wo, float eta, const LobeProbabilities&
     if (m_delta) {
         float fr = m_w_trans > 0.0f ? fresnel_dielectric(wo.z, eta) : 0.0f;
         Rgb base = m_metal.fresnel(wo.z) * m_w_metal + m_specular.fresnel(wo.z) * m_w_opaque + Rgb(fr * m_w_trans);
-        mass += base * base_scale(wo.z, wo.z);
+        mass += base * base_scale(o, wo.z);
         prob += p.spec + p.trans * fr;
     }
     out->wi = Vec3(-wo.x, -wo.y, wo.z);
@@ -170,15 +199,23 @@ void GltfBsdf::mirror_sample(const Vec3& wo, float eta, const LobeProbabilities&
     out->delta = true;
 }
 
+namespace {
+bool same_side(const Vec3& wo, const Vec3& wi) { return (wo.z > 0.0f && wi.z > 0.0f) || (wo.z < 0.0f && wi.z < 0.0f); }
+}  // namespace
+
 Rgb GltfBsdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
-    if (wo.z > 0.0f) return eval_upper(wo, wi, m_eta, mode);
-    if (wo.z < 0.0f) return eval_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, mode);
+    if (m_lambert) return same_side(wo, wi) ? m_diffuse_norm : Rgb(0.0f);
+    Outgoing scratch;
+    if (wo.z > 0.0f) return eval_upper(wo, wi, m_eta, mode, outgoing_at(wo.z, &scratch));
+    if (wo.z < 0.0f) return eval_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, mode, outgoing_at(-wo.z, &scratch));
     return Rgb(0.0f);
 }
 
 float GltfBsdf::pdf_w(const Vec3& wo, const Vec3& wi) const {
-    if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta);
-    if (wo.z < 0.0f) return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta);
+    if (m_lambert) return same_side(wo, wi) ? std::fabs(wi.z) * k_inv_pi : 0.0f;
+    Outgoing scratch;
+    if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta, outgoing_at(wo.z, &scratch));
+    if (wo.z < 0.0f) return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, outgoing_at(-wo.z, &scratch));
     return 0.0f;
 }
 
@@ -186,15 +223,27 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
                       TransportMode mode) const {
     if (wo_in.z == 0.0f) return false;
     bool flipped = wo_in.z < 0.0f;
+    if (m_lambert) {
+        // f cos / pdf = (base / pi) cos / (cos / pi) = base.
+        Vec3 wi = lambert_sample(u1, u2);
+        if (!(wi.z > 0.0f)) return false;
+        out->wi = flipped ? mirror_z(wi) : wi;
+        out->pdf_w = wi.z * k_inv_pi;
+        out->weight = m_base;
+        out->delta = false;
+        return true;
+    }
     Vec3 wo = flipped ? mirror_z(wo_in) : wo_in;
     float eta = flipped ? 1.0f / m_eta : m_eta;
-    LobeProbabilities p = probabilities(wo.z, ggx_albedo(wo.z, m_alpha));
+    Outgoing scratch;
+    const Outgoing& o = outgoing_at(wo.z, &scratch);
+    const LobeProbabilities& p = o.p;
     Vec3 wi;
     float u = u_lobe;
     bool delta_done = false;
     if (u < p.coat) {
         if (m_coat_delta) {
-            mirror_sample(wo, eta, p, out);
+            mirror_sample(wo, eta, o, out);
             delta_done = true;
         } else {
             wi = reflect(wo, ggx_sample_visible_normal(wo, m_coat_alpha, u1, u2));
@@ -202,7 +251,7 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
         }
     } else if ((u -= p.coat) < p.spec) {
         if (m_delta) {
-            mirror_sample(wo, eta, p, out);
+            mirror_sample(wo, eta, o, out);
             delta_done = true;
         } else {
             wi = reflect(wo, ggx_sample_visible_normal(wo, m_alpha, u1, u2));
@@ -217,13 +266,13 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
         if (m_delta) {
             float fr = fresnel_dielectric(wo.z, eta);
             if (u_choice < fr) {
-                mirror_sample(wo, eta, p, out);
+                mirror_sample(wo, eta, o, out);
                 delta_done = true;
             } else {
                 if (!refract(wo, Vec3(0, 0, 1), eta, &wi)) return false;
                 float scale = mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
                 // f cos / pdf = w_trans (1 - F) base scale / (p_trans (1 - F)), dimmed by the layers.
-                out->weight = m_base * (m_w_trans * scale * base_scale(wo.z, -wi.z) / p.trans);
+                out->weight = m_base * (m_w_trans * scale * base_scale(o, -wi.z) / p.trans);
                 out->pdf_w = p.trans * (1.0f - fr);
                 out->wi = wi;
                 out->delta = true;
@@ -241,9 +290,9 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
     }
     if (wi.z == 0.0f) return false;
     out->delta = false;
-    out->pdf_w = pdf_upper(wo, wi, eta);
+    out->pdf_w = pdf_upper(wo, wi, eta, o);
     if (!(out->pdf_w > 0.0f)) return false;
-    out->weight = eval_upper(wo, wi, eta, mode) * (std::fabs(wi.z) / out->pdf_w);
+    out->weight = eval_upper(wo, wi, eta, mode, o) * (std::fabs(wi.z) / out->pdf_w);
     out->wi = flipped ? mirror_z(wi) : wi;
     return true;
 }

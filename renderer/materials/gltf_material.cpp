@@ -9,8 +9,10 @@ namespace {
 
 Rgba lookup(const TextureRef& ref, const Scene& scene, const SurfaceAttributes& attr) {
     const Texture& tex = scene.textures[static_cast<size_t>(ref.texture)];
-    Vec2 uv = attr.uv[ref.texcoord == 1 ? 1 : 0];
-    return sample_texture(tex, apply_uv_transform(ref.transform, uv));
+    int set = ref.texcoord == 1 ? 1 : 0;
+    float footprint = attr.uv_footprint[set];
+    if (footprint > 0.0f) footprint *= uv_transform_length_scale(ref.transform);
+    return sample_texture(tex, apply_uv_transform(ref.transform, attr.uv[set]), footprint);
 }
 
 }  // namespace

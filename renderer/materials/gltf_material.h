@@ -31,6 +31,10 @@ struct ShadingInputs {
 struct SurfaceAttributes {
     Vec2 uv[2];
     Rgba color{1, 1, 1, 1};
+    // Width of the ray's footprint in each UV set's units, for choosing mip levels
+    // (texture_sampling.h); 0, the default, looks up the full-resolution image. Set by
+    // make_surface_hit from a ray cone (integrators/surface_hit.h).
+    float uv_footprint[2] = {0, 0};
 };
 
 // TEXCOORD_0/1 of triangle `idx` (three vertex indices) at barycentrics (b0, b1, b2).

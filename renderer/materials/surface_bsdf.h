@@ -35,6 +35,9 @@ public:
         // BSDF non-reciprocal, and light tracing would then disagree with path tracing at the
         // terminator of every smooth low-poly mesh. Directions below ns see a black BSDF.
         m_frame = Frame(n);
+        // Integrators ask about this wo again and again (light sample, MIS density, sampling):
+        // the BSDF computes what depends on it once.
+        m_bsdf.set_outgoing(std::fabs(m_frame.to_local(wo).z));
     }
 
     const Vec3& geometric_normal() const { return m_ng; }  // on wo's side

@@ -13,6 +13,17 @@ Vec2 apply_uv_transform(const UvTransform& t, Vec2 uv) {
     return {c * x - s * y + t.offset[0], s * x + c * y + t.offset[1]};
 }
 
+float uv_transform_length_scale(const UvTransform& t) {
+    float s = std::sqrt(std::fabs(t.scale[0] * t.scale[1]));
+    return std::isfinite(s) ? s : 1.0f;
+}
+
+float texture_lod(const Texture& tex, float footprint) {
+    if (!(footprint > 0.0f) || tex.width <= 0 || tex.height <= 0) return 0.0f;
+    float texels = footprint * std::sqrt(static_cast<float>(tex.width) * static_cast<float>(tex.height));
+    return std::isfinite(texels) ? std::log2(texels) : 0.0f;
+}
+
 namespace {
 
 int wrap_index(int i, int n, WrapMode mode) {
@@ -33,21 +44,42 @@ int wrap_index(int i, int n, WrapMode mode) {
     }
 }
 
-Rgba texel(const Texture& tex, int x, int y) {
-    x = wrap_index(x, tex.width, tex.wrap_s);
-    y = wrap_index(y, tex.height, tex.wrap_t);
-    const float* p = &tex.texels[(static_cast<size_t>(y) * tex.width + x) * 4];
-    return {p[0], p[1], p[2], p[3]};
+// One level of a texture: the image itself or a level of its pyramid, with the sampler's wraps.
+struct LevelView {
+    int width, height;
+    const float* texels;
+    WrapMode wrap_s, wrap_t;
+
+    Rgba texel(int x, int y) const {
+        x = wrap_index(x, width, wrap_s);
+        y = wrap_index(y, height, wrap_t);
+        const float* p = &texels[(static_cast<size_t>(y) * width + x) * 4];
+        return {p[0], p[1], p[2], p[3]};
+    }
+};
+
+// Texel centres sit at half-integers: texel i covers [i, i+1) / n in texture coordinates, so a
+// level's texels cover exactly the level-0 texels they average.
+Rgba bilinear(const LevelView& l, Vec2 uv, bool nearest) {
+    // Keep the coordinates in a range where float->int conversion is defined.
+    float fx = std::fmod(uv.x, 4096.0f) * l.width - 0.5f;
+    float fy = std::fmod(uv.y, 4096.0f) * l.height - 0.5f;
+    if (nearest) return l.texel(static_cast<int>(std::floor(fx + 0.5f)), static_cast<int>(std::floor(fy + 0.5f)));
+    float x0f = std::floor(fx), y0f = std::floor(fy);
+    float tx = fx - x0f, ty = fy - y0f;
+    int x0 = static_cast<int>(x0f), y0 = static_cast<int>(y0f);
+    Rgba a = l.texel(x0, y0), b = l.texel(x0 + 1, y0);
+    Rgba c = l.texel(x0, y0 + 1), d = l.texel(x0 + 1, y0 + 1);
+    auto mix = [&](float va, float vb, float vc, float vd) {
+        return (va * (1 - tx) + vb * tx) * (1 - ty) + (vc * (1 - tx) + vd * tx) * ty;
+    };
+    return {mix(a.r, b.r, c.r, d.r), mix(a.g, b.g, c.g, d.g), mix(a.b, b.b, c.b, d.b), mix(a.a, b.a, c.a, d.a)};
 }
 
-}  // namespace
-
-namespace {
-Rgba filtered(const Texture& tex, Vec2 uv);
-}
-
-Rgba sample_texture(const Texture& tex, Vec2 uv) {
-    Rgba c = filtered(tex, uv);
+// Level 0, decoded to linear after filtering when the texels are sRGB-encoded.
+Rgba level0(const Texture& tex, Vec2 uv) {
+    LevelView l{tex.width, tex.height, tex.texels.data(), tex.wrap_s, tex.wrap_t};
+    Rgba c = bilinear(l, uv, tex.nearest);
     if (tex.srgb) {
         c.r = srgb_to_linear(c.r);
         c.g = srgb_to_linear(c.g);
@@ -56,26 +88,30 @@ Rgba sample_texture(const Texture& tex, Vec2 uv) {
     return c;
 }
 
-namespace {
-
-Rgba filtered(const Texture& tex, Vec2 uv) {
-    if (tex.width <= 0 || tex.height <= 0 || !std::isfinite(uv.x) || !std::isfinite(uv.y))
-        return {1, 1, 1, 1};
-    // Keep the coordinates in a range where float->int conversion is defined.
-    float fx = std::fmod(uv.x, 4096.0f) * tex.width - 0.5f;
-    float fy = std::fmod(uv.y, 4096.0f) * tex.height - 0.5f;
-    if (tex.nearest) return texel(tex, static_cast<int>(std::floor(fx + 0.5f)), static_cast<int>(std::floor(fy + 0.5f)));
-    float x0f = std::floor(fx), y0f = std::floor(fy);
-    float tx = fx - x0f, ty = fy - y0f;
-    int x0 = static_cast<int>(x0f), y0 = static_cast<int>(y0f);
-    Rgba a = texel(tex, x0, y0), b = texel(tex, x0 + 1, y0);
-    Rgba c = texel(tex, x0, y0 + 1), d = texel(tex, x0 + 1, y0 + 1);
-    auto mix = [&](float va, float vb, float vc, float vd) {
-        return (va * (1 - tx) + vb * tx) * (1 - ty) + (vc * (1 - tx) + vd * tx) * ty;
-    };
-    return {mix(a.r, b.r, c.r, d.r), mix(a.g, b.g, c.g, d.g), mix(a.b, b.b, c.b, d.b), mix(a.a, b.a, c.a, d.a)};
+Rgba lerp(const Rgba& a, const Rgba& b, float t) {
+    return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t, a.a + (b.a - a.a) * t};
 }
 
 }  // namespace
+
+Rgba sample_texture(const Texture& tex, Vec2 uv, float footprint) {
+    if (tex.width <= 0 || tex.height <= 0 || !std::isfinite(uv.x) || !std::isfinite(uv.y) ||
+        tex.texels.size() < static_cast<size_t>(tex.width) * tex.height * 4)
+        return {1, 1, 1, 1};
+    float lod = texture_lod(tex, footprint);
+    if (!(lod > 0.0f) || tex.nearest) return level0(tex, uv);
+    const std::vector<MipLevel>& levels = tex.mips.levels(tex.width, tex.height, tex.texels.data(), tex.srgb);
+    int coarsest = static_cast<int>(levels.size());  // level n is levels[n - 1]
+    if (coarsest == 0) return level0(tex, uv);
+    auto at = [&](int k) {
+        if (k == 0) return level0(tex, uv);
+        const MipLevel& m = levels[static_cast<size_t>(k - 1)];
+        return bilinear(LevelView{m.width, m.height, m.texels.data(), tex.wrap_s, tex.wrap_t}, uv, false);
+    };
+    if (lod >= static_cast<float>(coarsest)) return at(coarsest);
+    int k = static_cast<int>(lod);
+    float t = lod - static_cast<float>(k);
+    return lerp(at(k), at(k + 1), t);
+}
 
 }  // namespace veach

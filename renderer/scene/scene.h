@@ -10,6 +10,7 @@
 #include "core/math.h"
 #include "core/rgb.h"
 #include "scene/scene_features.h"
+#include "textures/mip_pyramid.h"
 
 namespace veach {
 
@@ -26,6 +27,7 @@ struct Texture {
     bool srgb = false;          // RGB encoded with the sRGB transfer function; alpha always linear
     WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
     bool nearest = false;       // magnification filter NEAREST; otherwise bilinear
+    MipCache mips;              // coarser levels, built by the first minified lookup
 };
 
 // KHR_texture_transform, applied to the texture coordinate before lookup.

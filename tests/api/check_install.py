@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """The installed tree works for a host: `cmake --install` into a temporary prefix, then
 - libveach's SONAME carries the major version and it exports only the C API (veach* symbols);
+- the installed `veach` command runs from the moved prefix and is a client of libveach through
+  veach* symbols only (none of the renderer's libraries linked into it);
 - examples/host-c (C11, through pkg-config) and examples/cmake-consumer (C++, through
   find_package(veach CONFIG)) build against the prefix alone and run;
 - their PNGs are not black and their means agree with the `veach` command's PNG of the same
@@ -84,9 +86,25 @@ def main():
         run([host_c, scene, outputs["host-c"], width, spp], env=env)
         outputs["cmake-consumer"] = os.path.join(tmp, "consumer.png")
         run([os.path.join(consumer_build, "veach_consumer"), scene, outputs["cmake-consumer"], width, spp], env=env)
+        # The installed command is a client of libveach like the examples: it needs the library
+        # (found through its relative RPATH, no LD_LIBRARY_PATH) and none of the renderer's own
+        # dependencies, which live inside libveach.
+        cli = os.path.join(prefix, "bin", "veach")
+        needed = [l.split()[-1] for l in run(["objdump", "-p", cli]).stdout.splitlines() if "NEEDED" in l]
+        if "libveach.so.0" not in needed or any(n.startswith(("libembree", "libOpenImageIO", "libOpenColorIO", "libtbb"))
+                                                 for n in needed):
+            sys.exit(f"FAIL: bin/veach should need libveach.so.0 and not the renderer's libraries: {needed}")
+        undefined = [l.split()[-1].split("@")[0] for l in run(["nm", "-D", "--undefined-only", cli]).stdout.splitlines()]
+        from_lib = [u for u in undefined if u.startswith("veach")]
+        clean_env = {k: v for k, v in os.environ.items() if k != "LD_LIBRARY_PATH"}
+        if len(from_lib) < 10 or any("veach" in u and not u.startswith("veach") for u in undefined):
+            sys.exit(f"FAIL: bin/veach should use libveach through veach* symbols only: {undefined}")
+        versions = {run([c, "--version"], env=clean_env).stdout.strip() for c in (cli, args.veach)}
+        if len(versions) != 1:
+            sys.exit(f"FAIL: the installed and the build tree's veach report different versions: {versions}")
         outputs["veach command"] = os.path.join(tmp, "cli.png")
-        run([args.veach, "render", scene, "-o", outputs["veach command"], "--width", width, "--spp", spp,
-             "--integrator", "pt", "--quiet"])
+        run([cli, "render", scene, "-o", outputs["veach command"], "--width", width, "--spp", spp,
+             "--integrator", "pt", "--quiet"], env=clean_env)
         missing = run([host_c, os.path.join(tmp, "missing.gltf"), os.path.join(tmp, "x.png")], env=env, expect=2)
         if "missing.gltf" not in missing.stderr:
             sys.exit(f"FAIL: the error for a missing scene does not name it: {missing.stderr}")

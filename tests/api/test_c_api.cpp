@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -358,6 +359,284 @@ TEST(CppWrapper, ThrowsWithTheLibrarysCodeAndRenders) {
     std::vector<float> px = render.pass();
     EXPECT_EQ(px.size(), 32u * 32u * 4u);
     EXPECT_EQ(render.width(), 32);
+}
+
+// ---- Options added in 0.2 (what the `veach` command needs) -------------------------------
+
+// A glTF with nothing in it: every camera ray escapes to the environment.
+const char k_empty_gltf[] = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})";
+
+std::string scene_string(VeachScene s, const char* name) {
+    size_t length = 0;
+    EXPECT_EQ(veachGetSceneString(s, name, nullptr, 0, &length), VEACH_ERROR_NONE) << veachGetLastError();
+    std::string out(length + 1, '\0');
+    EXPECT_EQ(veachGetSceneString(s, name, out.data(), out.size(), &length), VEACH_ERROR_NONE);
+    out.resize(length);
+    return out;
+}
+
+std::string render_string(VeachRender r, const char* name) {
+    size_t length = 0;
+    EXPECT_EQ(veachGetString(r, name, nullptr, 0, &length), VEACH_ERROR_NONE) << veachGetLastError();
+    std::string out(length + 1, '\0');
+    EXPECT_EQ(veachGetString(r, name, out.data(), out.size(), &length), VEACH_ERROR_NONE);
+    out.resize(length);
+    return out;
+}
+
+long long get_int(VeachRender r, const char* name) {
+    long long v = -12345;
+    EXPECT_EQ(veachGetInt(r, name, &v), VEACH_ERROR_NONE) << veachGetLastError();
+    return v;
+}
+
+// An error code and a last-error message that names `needle`.
+#define EXPECT_REFUSED(call, code, needle)                                                            \
+    do {                                                                                              \
+        EXPECT_EQ((call), (code));                                                                    \
+        EXPECT_EQ(veachGetLastErrorCode(), (code));                                                   \
+        EXPECT_NE(std::string(veachGetLastError()).find(needle), std::string::npos) << veachGetLastError(); \
+    } while (0)
+
+TEST_F(CApi, SceneOptionsAreCheckedAndFrozenByTheLoad) {
+    VeachScene s = veachNewScene(m_device);
+    ASSERT_NE(s, nullptr);
+    EXPECT_REFUSED(veachSetSceneString(s, "spot_falloff", "cone"), VEACH_ERROR_INVALID_ARGUMENT, "auto, blender or gltf");
+    EXPECT_REFUSED(veachSetSceneString(s, "env_color", "1,2"), VEACH_ERROR_INVALID_ARGUMENT, "R,G,B");
+    EXPECT_REFUSED(veachSetSceneString(s, "env_color", "1,-2,3"), VEACH_ERROR_INVALID_ARGUMENT, "R,G,B");
+    EXPECT_REFUSED(veachSetSceneFloat(s, "env_strength", -1), VEACH_ERROR_INVALID_ARGUMENT, "env_strength");
+    EXPECT_REFUSED(veachSetSceneFloat(s, "env_rotate", NAN), VEACH_ERROR_INVALID_ARGUMENT, "finite");
+    EXPECT_REFUSED(veachSetSceneInt(s, "scene_index", -2), VEACH_ERROR_INVALID_ARGUMENT, "scene_index");
+    EXPECT_REFUSED(veachSetSceneInt(s, "allow_external_files", 2), VEACH_ERROR_INVALID_ARGUMENT, "0 or 1");
+    EXPECT_REFUSED(veachSetSceneFloat(s, "variant", 1), VEACH_ERROR_INVALID_ARGUMENT, "is a string");
+    EXPECT_REFUSED(veachSetSceneInt(s, "no_such", 1), VEACH_ERROR_INVALID_ARGUMENT, "no_such");
+    EXPECT_REFUSED(veachSetSceneInt(s, "triangles", 1), VEACH_ERROR_INVALID_ARGUMENT, "read-only");
+    EXPECT_EQ(veachSetSceneString(s, "env_color", "0.5,0.25,1"), VEACH_ERROR_NONE);
+    EXPECT_REFUSED(veachSetSceneString(s, "env_map", "sky.exr"), VEACH_ERROR_INVALID_ARGUMENT, "exclude");
+    // Not loaded yet: no render, no results.
+    EXPECT_EQ(veachNewRender(s), nullptr);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_INVALID_OPERATION);
+    EXPECT_NE(std::string(veachGetLastError()).find("not loaded"), std::string::npos) << veachGetLastError();
+    long long v = 0;
+    EXPECT_EQ(veachGetSceneInt(s, "triangles", &v), VEACH_ERROR_INVALID_OPERATION);
+    EXPECT_EQ(veachSetSceneString(s, "spot_falloff", "blender"), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    // Loaded: options are frozen, a second load is refused, results are there.
+    EXPECT_REFUSED(veachSetSceneString(s, "variant", "x"), VEACH_ERROR_INVALID_OPERATION, "loaded");
+    EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_INVALID_OPERATION, "loaded");
+    EXPECT_EQ(scene_string(s, "spot_falloff"), "blender");
+    EXPECT_EQ(scene_string(s, "env_color"), "0.5,0.25,1");
+    EXPECT_EQ(scene_string(s, "source"), k_cornell);
+    EXPECT_EQ(veachGetSceneInt(s, "cameras", &v), VEACH_ERROR_NONE);
+    EXPECT_EQ(v, veachGetSceneCameraCount(s));
+    EXPECT_EQ(veachGetSceneInt(s, "triangles", &v), VEACH_ERROR_NONE);
+    EXPECT_GE(v, 12);  // at least the box's six quads
+    EXPECT_NE(scene_string(s, "features").find("emissive_meshes"), std::string::npos);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, BadSceneContentFailsTheLoadWithBadInput) {
+    VeachScene s = veachNewScene(m_device);
+    veachSetSceneString(s, "env_map", "/nonexistent/sky.exr");
+    EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_BAD_INPUT, "/nonexistent/sky.exr");
+    veachReleaseScene(s);
+    s = veachNewScene(m_device);
+    veachSetSceneString(s, "variant", "no such variant");
+    EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_BAD_INPUT, "no such variant");
+    veachReleaseScene(s);
+    s = veachNewScene(m_device);
+    veachSetSceneInt(s, "scene_index", 99);
+    EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_BAD_INPUT, "cornell.gltf");
+    veachReleaseScene(s);
+    EXPECT_EQ(m_errors.calls, 3);  // each through the callback too
+}
+
+TEST_F(CApi, UniformEnvironmentIsSeenDirectlyWithItsStrength) {
+    // A camera ray that escapes sees the environment's radiance: colour x strength, exactly (a
+    // box filter keeps every sample in its pixel with weight 1), whatever the rotation.
+    VeachScene s = veachNewScene(m_device);
+    ASSERT_EQ(veachSetSceneString(s, "env_color", "0.5,0.25,1"), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetSceneFloat(s, "env_strength", 3), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetSceneFloat(s, "env_rotate", 90), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachLoadSceneMemory(s, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr), VEACH_ERROR_NONE)
+        << veachGetLastError();
+    VeachRender r = veachNewRender(s);
+    veachSetInt(r, "width", 16);
+    veachSetInt(r, "height", 8);
+    veachSetInt(r, "spp", 2);
+    veachSetString(r, "integrator", "pt");
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+    std::vector<float> px = combined(r);
+    const float expected[3] = {1.5f, 0.75f, 3.0f};
+    for (size_t i = 0; i < px.size(); i += 4)
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(px[i + c], expected[c], 1e-5f * expected[c]) << "pixel " << i / 4;
+    EXPECT_NE(scene_string(s, "features").find("environment"), std::string::npos);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, NewRenderOptionsRefuseBadValuesAndReadBack) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr) << veachGetLastError();
+    VeachRender r = veachNewRender(s);
+    EXPECT_REFUSED(veachSetString(r, "filter", "lanczos"), VEACH_ERROR_INVALID_ARGUMENT, "blackman-harris");
+    EXPECT_REFUSED(veachSetFloat(r, "filter_width", 0), VEACH_ERROR_INVALID_ARGUMENT, "filter_width");
+    EXPECT_REFUSED(veachSetString(r, "sampler", "halton"), VEACH_ERROR_INVALID_ARGUMENT, "sobol or random");
+    EXPECT_REFUSED(veachSetString(r, "exr_codec", "zip:10"), VEACH_ERROR_INVALID_ARGUMENT, "exr_codec");
+    EXPECT_REFUSED(veachSetString(r, "exr_codec", "lzma"), VEACH_ERROR_INVALID_ARGUMENT, "dwab");
+    EXPECT_REFUSED(veachSetString(r, "passes", "combined,glossy"), VEACH_ERROR_INVALID_ARGUMENT, "glossy");
+    EXPECT_REFUSED(veachSetFloat(r, "noise", -0.1), VEACH_ERROR_INVALID_ARGUMENT, "noise");
+    EXPECT_REFUSED(veachSetFloat(r, "noise", INFINITY), VEACH_ERROR_INVALID_ARGUMENT, "finite");
+    EXPECT_REFUSED(veachSetInt(r, "bdpt_t", 1001), VEACH_ERROR_INVALID_ARGUMENT, "bdpt_t");
+    EXPECT_REFUSED(veachSetInt(r, "resume", 2), VEACH_ERROR_INVALID_ARGUMENT, "resume");
+    EXPECT_REFUSED(veachSetFloat(r, "gamma", 0), VEACH_ERROR_INVALID_ARGUMENT, "gamma");
+    EXPECT_REFUSED(veachSetFloat(r, "exposure", 100), VEACH_ERROR_INVALID_ARGUMENT, "exposure");
+    EXPECT_REFUSED(veachSetString(r, "result_camera", "x"), VEACH_ERROR_INVALID_ARGUMENT, "read-only");
+    EXPECT_REFUSED(veachSetFloat(r, "build_seconds", 1), VEACH_ERROR_INVALID_ARGUMENT, "read-only");
+    EXPECT_REFUSED(veachGetString(r, "spp", nullptr, 0, nullptr), VEACH_ERROR_INVALID_ARGUMENT, "is an int");
+    char small[4];
+    EXPECT_REFUSED(veachGetString(r, "filter", nullptr, sizeof(small), nullptr), VEACH_ERROR_INVALID_ARGUMENT, "null");
+    EXPECT_EQ(m_errors.calls, 16);
+
+    // Good values read back; passes that need first-hit AOVs switch them on.
+    EXPECT_EQ(veachSetString(r, "filter", "gaussian"), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachSetString(r, "exr_codec", "dwaa:45"), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachSetString(r, "passes", "combined,normal,combined"), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachSetFloat(r, "noise", 0.02), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachSetString(r, "sampler", "random"), VEACH_ERROR_NONE);
+    EXPECT_EQ(render_string(r, "filter"), "gaussian");
+    EXPECT_EQ(render_string(r, "exr_codec"), "dwaa:45");
+    EXPECT_EQ(render_string(r, "passes"), "combined,normal");
+    EXPECT_EQ(render_string(r, "sampler"), "random");
+    EXPECT_EQ(get_int(r, "aovs"), 1);
+    double noise = 0, interval = 0;
+    EXPECT_EQ(veachGetFloat(r, "noise", &noise), VEACH_ERROR_NONE);
+    EXPECT_FLOAT_EQ(noise, 0.02);
+    EXPECT_EQ(veachGetFloat(r, "checkpoint_interval", &interval), VEACH_ERROR_NONE);
+    EXPECT_LT(interval, 0);  // never written unless asked
+    // A short buffer gets a truncated, terminated string and the full length.
+    size_t length = 0;
+    EXPECT_EQ(veachGetString(r, "filter", small, sizeof(small), &length), VEACH_ERROR_NONE);
+    EXPECT_STREQ(small, "gau");
+    EXPECT_EQ(length, 8u);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, StatsDescribeTheRender) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr) << veachGetLastError();
+    VeachRender r = new_cornell_render(s, 4);
+    EXPECT_EQ(get_int(r, "result_complete"), 0);  // nothing rendered yet
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+    // One camera sample per pixel per sample, and the path tracer traces at least one ray each.
+    EXPECT_EQ(get_int(r, "result_camera_samples"), 48 * 48 * 4);
+    EXPECT_GE(get_int(r, "result_rays"), 48 * 48 * 4);
+    EXPECT_EQ(get_int(r, "result_spp"), 4);
+    EXPECT_EQ(get_int(r, "result_complete"), 1);
+    EXPECT_EQ(get_int(r, "result_resumed_spp"), 0);
+    EXPECT_EQ(get_int(r, "result_nonfinite_samples"), 0);
+    EXPECT_EQ(render_string(r, "result_integrator"), "pt");
+    EXPECT_EQ(render_string(r, "result_camera"), veachGetSceneCameraName(s, 0));
+    double build = -1, seconds = -1;
+    EXPECT_EQ(veachGetFloat(r, "build_seconds", &build), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachGetFloat(r, "render_seconds", &seconds), VEACH_ERROR_NONE);
+    EXPECT_GE(build, 0);
+    EXPECT_GT(seconds, 0);
+    long long peak = 0;
+    EXPECT_EQ(veachGetDeviceInt(m_device, "peak_memory_bytes", &peak), VEACH_ERROR_NONE);
+    EXPECT_GT(peak, 1 << 20);  // this process holds at least a megabyte (Linux /proc)
+    EXPECT_EQ(veachGetDeviceInt(m_device, "nope", &peak), VEACH_ERROR_INVALID_ARGUMENT);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+TEST_F(CApi, DeviceListsNamesAndTheColourConfig) {
+    auto get = [&](const char* name) {
+        size_t length = 0;
+        EXPECT_EQ(veachGetDeviceString(m_device, name, nullptr, 0, &length), VEACH_ERROR_NONE) << veachGetLastError();
+        std::string s(length + 1, '\0');
+        veachGetDeviceString(m_device, name, s.data(), s.size(), &length);
+        s.resize(length);
+        return s;
+    };
+    EXPECT_EQ(get("integrators").find("bdpt\npt"), 0u) << get("integrators");
+    EXPECT_NE(get("passes").find("variance"), std::string::npos);
+    EXPECT_NE(get("color_config"), "");
+    std::string displays = get("color_displays");
+    ASSERT_NE(displays, "");
+    std::string first = displays.substr(0, displays.find('\n'));
+    EXPECT_NE(get(("color_views:" + first).c_str()), "");  // every display has a view
+    EXPECT_REFUSED(veachGetDeviceString(m_device, "color_views:No Such Display", nullptr, 0, nullptr),
+                   VEACH_ERROR_INVALID_ARGUMENT, "No Such Display");
+    EXPECT_REFUSED(veachGetDeviceString(nullptr, "integrators", nullptr, 0, nullptr), VEACH_ERROR_INVALID_ARGUMENT,
+                   "null device");
+}
+
+TEST_F(CApi, CheckpointResumesToTheSameImageAndRefusesAnotherRender) {
+    // A checkpoint written after every pass but the last holds fewer than 8 samples; resuming
+    // from it to 8 must give exactly the image of an uninterrupted render (pt: each pixel adds
+    // its samples in index order, keyed by (seed, pixel, sample)).
+    auto dir = std::filesystem::temp_directory_path() / ("veach_capi_cp_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string state = (dir / "state.checkpoint").string();
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr) << veachGetLastError();
+    VeachRender full = new_cornell_render(s, 8);
+    ASSERT_EQ(veachSetString(full, "checkpoint", state.c_str()), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetFloat(full, "checkpoint_interval", 0), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachRender(full), VEACH_ERROR_NONE) << veachGetLastError();
+    ASSERT_TRUE(std::filesystem::exists(state)) << "no checkpoint written";
+
+    VeachRender resumed = new_cornell_render(s, 8);
+    veachSetString(resumed, "checkpoint", state.c_str());
+    veachSetInt(resumed, "resume", 1);
+    veachSetInt(resumed, "threads", 1);  // threads may differ
+    ASSERT_EQ(veachRender(resumed), VEACH_ERROR_NONE) << veachGetLastError();
+    long long from = get_int(resumed, "result_resumed_spp");
+    EXPECT_GE(from, 1);
+    EXPECT_LT(from, 8);
+    EXPECT_EQ(get_int(resumed, "result_spp"), 8);
+    EXPECT_EQ(combined(resumed), combined(full));
+
+    VeachRender other = new_cornell_render(s, 8, 99);  // another seed: another image
+    veachSetString(other, "checkpoint", state.c_str());
+    veachSetInt(other, "resume", 1);
+    EXPECT_REFUSED(veachRender(other), VEACH_ERROR_BAD_INPUT, "state.checkpoint");
+    EXPECT_EQ(veachGetRenderStatus(other), VEACH_STATUS_FAILED);
+
+    // A checkpoint that cannot be written is an output failure.
+    VeachRender unwritable = new_cornell_render(s, 8);
+    veachSetString(unwritable, "checkpoint", (dir / "missing" / "state").c_str());
+    veachSetFloat(unwritable, "checkpoint_interval", 0);
+    EXPECT_REFUSED(veachRender(unwritable), VEACH_ERROR_OUTPUT, "missing");
+    for (VeachRender r : {full, resumed, other, unwritable}) veachReleaseRender(r);
+    veachReleaseScene(s);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(CppWrapper, SceneOptionsStatsAndStrings) {
+    veach::Device device;
+    EXPECT_NE(device.get_string("integrators").find("pt"), std::string::npos);
+    veach::Scene scene(device);
+    try {
+        scene.set("spot_falloff", "cone");
+        FAIL() << "no exception";
+    } catch (const veach::Error& e) {
+        EXPECT_EQ(e.code(), VEACH_ERROR_INVALID_ARGUMENT);
+        EXPECT_NE(std::string(e.what()).find("spot_falloff"), std::string::npos);
+    }
+    scene.set("env_color", "0.25,0.5,2").set("env_strength", 2.0);
+    scene.load(k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf");
+    EXPECT_THROW(scene.set("env_strength", 1.0), veach::Error);  // frozen by the load
+    EXPECT_EQ(scene.get_int("triangles"), 0);
+    veach::Render render(scene);
+    render.set("width", 8).set("height", 8).set("spp", 1).set("integrator", "pt");
+    EXPECT_TRUE(render.render());
+    EXPECT_EQ(render.get_string("result_integrator"), "pt");
+    std::vector<float> px = render.pass();
+    EXPECT_NEAR(px[0], 0.5f, 1e-6f);  // the environment, 0.25 x 2, seen directly
+    EXPECT_NEAR(px[2], 4.0f, 1e-5f);
 }
 
 }  // namespace

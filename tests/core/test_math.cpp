@@ -53,3 +53,21 @@ TEST(Math, SrgbTransferIsTheIecCurve) {
 
 }  // namespace
 }  // namespace veach
+
+namespace veach {
+namespace {
+// Rgb::max keeps std::fmax's semantics (the largest channel; a NaN channel is ignored, all-NaN
+// is NaN): Russian roulette and the lobe floors rely on it.
+TEST(Rgb, MaxIsFmaxOfTheChannels) {
+    const float nan = std::nanf("");
+    const float vals[] = {-1.0f, 0.0f, -0.0f, 0.5f, 2.0f, nan, INFINITY};
+    for (float a : vals)
+        for (float b : vals)
+            for (float c : vals) {
+                float want = std::fmax(a, std::fmax(b, c)), got = Rgb(a, b, c).max();
+                if (std::isnan(want)) EXPECT_TRUE(std::isnan(got));
+                else EXPECT_EQ(want, got) << a << " " << b << " " << c;
+            }
+}
+}  // namespace
+}  // namespace veach

@@ -1,6 +1,9 @@
 // Warping functions produce their stated densities; discrete distributions their weights.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "../materials/chi_square.h"
 #include "core/sampling.h"
 
@@ -12,6 +15,29 @@ TEST(Sampling, CosineHemisphereMatchesItsPdf) {
         [](Rng& rng, Vec3* d) { *d = sample_cosine_hemisphere(rng.next_float(), rng.next_float()); return true; },
         [](const Vec3& d) { return static_cast<double>(cosine_hemisphere_pdf_w(d.z)); });
     EXPECT_GT(res.p_value, 0.01 / 3);
+}
+
+// The concentric map's polynomial cos/sin give the map of Shirley & Chiu 1997 (written here
+// with std::cos / std::sin) to float precision, and points on the unit circle for u on the
+// square's edge.
+TEST(Sampling, ConcentricDiskIsShirleyChiusMap) {
+    const int n = 512;
+    double worst = 0;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            float u1 = static_cast<float>(i) / n, u2 = static_cast<float>(j) / n;
+            float a = 2 * u1 - 1, b = 2 * u2 - 1;
+            double r, phi;
+            if (a == 0 && b == 0) r = phi = 0;
+            else if (std::fabs(a) > std::fabs(b)) r = a, phi = (M_PI / 4) * (static_cast<double>(b) / a);
+            else r = b, phi = M_PI / 2 - (M_PI / 4) * (static_cast<double>(a) / b);
+            Vec2 d = sample_concentric_disk(u1, u2);
+            worst = std::max({worst, std::fabs(d.x - r * std::cos(phi)), std::fabs(d.y - r * std::sin(phi))});
+            if (i == 0 || j == 0 || i == n || j == n) {
+                EXPECT_NEAR(d.x * d.x + d.y * d.y, 1.0f, 1e-6f);
+            }
+        }
+    EXPECT_LT(worst, 4e-7);
 }
 
 TEST(Sampling, UniformSphereMatchesItsPdf) {

@@ -47,6 +47,33 @@ TEST(SobolSampler, ValuesAreUniformAcrossPixels) {
     EXPECT_NEAR(cross / n, 0.0, 0.003);  // different pairs are uncorrelated
 }
 
+// The fast paths (byte tables in reversed bit order, one reversal of the index per Sampler, x
+// alone for next_1d) give the values of the textbook composition owen_scramble(sobol_d(i), s).
+TEST(SobolSampler, FastPathsEqualTheTextbookComposition) {
+    for (uint32_t k = 0; k < 100000; ++k) {
+        uint32_t i = k * 2654435761u;
+        uint32_t textbook = 0;
+        for (int b = 0; b < 32; ++b) textbook |= ((sobol_dimension1(i) >> b) & 1u) << (31 - b);
+        ASSERT_EQ(sobol_dimension1_reversed(i), textbook) << i;
+        ASSERT_EQ(reverse_bits(reverse_bits(i)), i);
+        ASSERT_EQ(reverse_bits(1u << (k % 32)), 1u << (31 - k % 32));
+    }
+    for (uint32_t index = 0; index < 64; ++index) {
+        uint64_t key = mix64(3 * 0x9e3779b97f4a7c15ull ^ mix64(11 + 0x2545f4914f6cdd1dull));
+        Sampler a(SamplerKind::Sobol, 3, 11, index), b(SamplerKind::Sobol, 3, 11, index);
+        for (int pair = 0; pair < Sampler::k_sobol_pairs; ++pair) {
+            uint64_t h = mix64(key + static_cast<uint64_t>(pair) * 0xd1b54a32d192ed03ull);
+            uint32_t i = owen_scramble(index, static_cast<uint32_t>(h));
+            uint32_t x = owen_scramble(sobol_dimension0(i), static_cast<uint32_t>(h >> 32));
+            uint32_t y = owen_scramble(sobol_dimension1(i), static_cast<uint32_t>(mix64(h) >> 32));
+            Vec2 v = a.next_2d();
+            ASSERT_EQ(v.x, static_cast<float>(x >> 8) * 0x1p-24f) << index << " " << pair;
+            ASSERT_EQ(v.y, static_cast<float>(y >> 8) * 0x1p-24f) << index << " " << pair;
+            ASSERT_EQ(b.next_1d(), v.x);
+        }
+    }
+}
+
 TEST(SobolSampler, OwenScrambleIsABijectionOnPrefixes) {
     // Nested uniform scrambling permutes each dyadic interval's halves: distinct inputs stay
     // distinct, and the top k bits of the output depend only on the top k bits of the input.

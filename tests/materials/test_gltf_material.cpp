@@ -211,6 +211,90 @@ INSTANTIATE_TEST_SUITE_P(Mixed, GltfSamplingChiSquare,
                          ::testing::Combine(::testing::Values(0.3f), ::testing::Values(0.4f), ::testing::Values(0.5f),
                                             ::testing::Values(1.33f), ::testing::Values(0.5f, 2.5f)));
 
+// The Lambert fast path (F0 = F90 = 0, nothing else) is the general layered model's limit: a
+// specular layer of F0 = F90 = 1e-6 takes the general path and must agree to that order, on
+// both sides of the frame (the densities differ: the general path keeps sampling its specular
+// lobe); the fast path samples exactly the density it reports (chi-square).
+TEST(GltfMaterial, LambertFastPathMatchesTheGeneralModel) {
+    Rng rng(8, 3);
+    for (float roughness : {0.0f, 0.3f, 1.0f}) {
+        ShadingInputs in = inputs(Rgb(0.7f, 0.5f, 0.2f), 0.0f, roughness, 0.0f);
+        ShadingInputs near = in;
+        near.dielectric_f0 = Rgb(1e-6f);
+        near.dielectric_f90 = 1e-6f;
+        GltfBsdf fast(in, 1.45f), general(near, 1.45f);
+        ASSERT_TRUE(fast.is_lambert());
+        ASSERT_FALSE(general.is_lambert());
+        for (int i = 0; i < 200; ++i) {
+            float side_o = i % 2 ? 1.0f : -1.0f, side_i = i % 3 ? side_o : -side_o;
+            Vec3 wo = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f) * side_o;
+            Vec3 wi = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f) * side_i;
+            Rgb a = fast.eval(wo, wi), b = general.eval(wo, wi);
+            EXPECT_NEAR(a.r, b.r, 1e-5f);
+            EXPECT_NEAR(a.g, b.g, 1e-5f);
+            EXPECT_NEAR(a.b, b.b, 1e-5f);
+            BsdfSample sa, sb;
+            float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+            ASSERT_TRUE(fast.sample(wo, u0, u1, u2, &sa));
+            EXPECT_EQ(sa.wi.z > 0.0f, wo.z > 0.0f);
+            EXPECT_NEAR(sa.pdf_w, fast.pdf_w(wo, sa.wi), 1e-5f);
+            EXPECT_NEAR(sa.weight.r, 0.7f, 1e-6f);
+        }
+    }
+    for (float theta : {0.4f, 2.5f}) {
+        GltfBsdf bsdf(inputs(Rgb(0.6f), 0.0f, 0.5f, 0.0f));
+        Vec3 wo = direction(theta, 0.7f);
+        auto res = test::chi_square_directions(
+            [&](Rng& r, Vec3* d) {
+                BsdfSample bs;
+                bool ok = bsdf.sample(wo, r.next_float(), r.next_float(), r.next_float(), &bs);
+                *d = bs.wi;
+                return ok;
+            },
+            [&](const Vec3& d) { return static_cast<double>(bsdf.pdf_w(wo, d)); });
+        EXPECT_GT(res.p_value, 0.005) << "chi2 " << res.statistic << " dof " << res.dof;
+        EXPECT_LT(res.missing_mass, 0.01);
+    }
+}
+
+// set_outgoing() caches what depends on wo: for that wo every answer must be the uncached one
+// bit for bit, and any other wo (a reverse density in BDPT) must not see the cache.
+TEST(GltfMaterial, OutgoingCacheChangesNoAnswer) {
+    Rng rng(4, 4);
+    for (float metallic : {0.0f, 1.0f})
+        for (float roughness : {0.0f, 0.4f, 1.0f})
+            for (float transmission : {0.0f, 1.0f})
+                for (float coat : {0.0f, 0.6f}) {
+                    ShadingInputs in = layered(inputs(Rgb(0.8f, 0.4f, 0.3f), metallic, roughness, 1.0f, 1.5f, transmission),
+                                               coat, roughness * 0.5f, Rgb(0.5f) * coat, 0.5f);
+                    GltfBsdf plain(in, 1.5f), cached(in, 1.5f);
+                    for (int i = 0; i < 100; ++i) {
+                        float side = i % 2 ? 1.0f : -1.0f;
+                        Vec3 wo = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f) * side;
+                        Vec3 other = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f);
+                        Vec3 wi = direction(rng.next_float() * 3.1f, rng.next_float() * 6.28f);
+                        cached.set_outgoing(std::fabs(wo.z));
+                        for (const Vec3& w : {wo, other}) {
+                            Rgb a = plain.eval(w, wi), b = cached.eval(w, wi);
+                            EXPECT_EQ(a.r, b.r);
+                            EXPECT_EQ(a.g, b.g);
+                            EXPECT_EQ(a.b, b.b);
+                            EXPECT_EQ(plain.pdf_w(w, wi), cached.pdf_w(w, wi));
+                            float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+                            BsdfSample sa, sb;
+                            bool oka = plain.sample(w, u0, u1, u2, &sa), okb = cached.sample(w, u0, u1, u2, &sb);
+                            ASSERT_EQ(oka, okb);
+                            if (!oka) continue;
+                            EXPECT_EQ(sa.wi.x, sb.wi.x);
+                            EXPECT_EQ(sa.wi.z, sb.wi.z);
+                            EXPECT_EQ(sa.pdf_w, sb.pdf_w);
+                            EXPECT_EQ(sa.weight.g, sb.weight.g);
+                            EXPECT_EQ(sa.delta, sb.delta);
+                        }
+                    }
+                }
+}
+
 // Veach 1997 eq. 5.14: f(wi -> wo) / eta_o^2 = f(wo -> wi) / eta_i^2 in radiance mode, and the
 // importance-mode BTDF is the transpose of the radiance-mode one (flux is not rescaled).
 TEST(GltfMaterial, TransmissionEtaSquaredRule) {

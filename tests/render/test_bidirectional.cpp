@@ -2,10 +2,13 @@
 // or alone, converges to the same image.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <fstream>
 
 #include "importers/importer.h"
+#include "core/rng.h"
+#include "materials/gltf_bsdf.h"
 #include "render_helpers.h"
 #include "test_scenes.h"
 
@@ -48,12 +51,21 @@ TEST_P(IntegratorsAgree, OnPublicScene) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, IntegratorsAgree, ::testing::Values("cornell", "lights"));
 
-// Copper and near-smooth glass (caustics): bdpt's weights over glossy transmission agree with pt.
-// Light tracing alone is not compared here: connecting a light path to the camera through a
-// roughness-0.05 glass lobe is heavy-tailed (at 4096 spp its image mean still swings from 0.95 to
-// 1.16 of pt's between seeds, carried by single pixels), and within bdpt MIS gives those paths
-// to the camera-side strategies.
-TEST(IntegratorsAgreeOnCaustics, SpheresBdptAgreesWithPt) {
+// Copper and near-smooth glass (caustics): bdpt's weights over glossy transmission agree with pt,
+// and light tracing alone agrees wherever its estimate has finite variance in practice.
+//
+// Light tracing sees the glass sphere only by connecting a particle on its surface to the camera
+// through the roughness-0.05 transmission lobe (GGX alpha 0.0025), an estimator whose mass lies in
+// rare, huge contributions. Measured (64x48, 60 independent 256-spp lt runs against 16 pt runs of
+// 2048 spp): every 16x16 block without the glass sphere agrees within 0.3% (|z| < 1.3), while the
+// two that show it come out 28% and 11% low on average, and single runs' image means range from
+// 0.93 to 1.21 of pt's. That is a heavy tail, not a bias: the lobe's eval matches its sampling
+// sample by sample (NarrowTransmissionLobeEvaluatesWhatItSamples), with the glass made rougher
+// (0.3) every block agrees within 1.5 standard errors, and at 0.15 the shortfall is already
+// back (7%): the narrower the lobe, the rarer the contributions that carry its mean. So lt is
+// held to the 1% / 3% on the blocks that do not show the glass sphere (the right half of
+// the upper two block rows, which also holds its reflections).
+TEST(IntegratorsAgreeOnCaustics, SpheresBdptAndLtAgreeWithPt) {
     std::string path = shared_scene("spheres");
     if (!std::ifstream(path).good()) GTEST_SKIP() << "no " << path;
     // Caustic fireflies do not shrink like sqrt(spp): at a fraction of the samples (sanitizer
@@ -66,6 +78,20 @@ TEST(IntegratorsAgreeOnCaustics, SpheresBdptAgreesWithPt) {
     Image bdpt = test::render(s, 64, test::spp(1024), "bdpt", 64, 0, 52, &stats, -1, -1, 48);
     EXPECT_EQ(stats.nonfinite_samples, 0u);
     expect_agree(bdpt, pt, 16, 0.01, 0.03, "bdpt vs pt");
+
+    Image lt = test::render(s, 64, test::spp(2048), "lt", 64, 0, 53, &stats, -1, -1, 48);
+    EXPECT_EQ(stats.nonfinite_samples, 0u);
+    std::vector<double> bl = test::block_means(lt, 16), bp = test::block_means(pt, 16);
+    ASSERT_EQ(bp.size(), 12u);  // 4 x 3 blocks
+    double sum_lt = 0, sum_pt = 0;
+    for (size_t k = 0; k < bp.size(); ++k) {
+        bool glass = k == 2 || k == 3 || k == 6 || k == 7;
+        if (glass) continue;
+        sum_lt += bl[k];
+        sum_pt += bp[k];
+        EXPECT_NEAR(bl[k] / bp[k], 1.0, 0.03) << "lt vs pt, block " << k;
+    }
+    EXPECT_NEAR(sum_lt / sum_pt, 1.0, 0.01) << "lt vs pt, mean away from the glass sphere";
 }
 
 // Each single strategy (s light vertices, t camera vertices) with s + t <= 4 renders the paths
@@ -92,7 +118,8 @@ TEST(BidirectionalStrategies, EveryStrategyUpToFourVerticesConvergesOnCornell) {
 }
 
 // Veach's shading-normal correction: on a smooth-shaded low-poly sphere, light tracing (which
-// transports importance) agrees with path tracing only when the adjoint BSDF is used.
+// transports importance) agrees with path tracing only when the adjoint BSDF is used (without
+// it the blocks are 50% off and the mean 5% low).
 TEST(BidirectionalShadingNormals, LowPolySmoothSphereUnderPointLight) {
     Scene s;
     Mesh sphere = test::make_sphere(1.0f, Vec3(0, 0, 0), 10, 5);
@@ -110,11 +137,21 @@ TEST(BidirectionalShadingNormals, LowPolySmoothSphereUnderPointLight) {
     Image pt = test::render(s, 32, test::spp(2048), "pt", 8, 0, 31);
     Image bdpt = test::render(s, 32, test::spp(256), "bdpt", 8, 0, 33);
     expect_agree(bdpt, pt, 16, 0.01, 0.03, "bdpt vs pt");
-    // Light tracing divides by |wo.ng| near the terminator, a heavy-tailed estimator: its dim
-    // terminator block converges slowly (6% at 4096 spp), while without the correction the
-    // blocks are 50% off and the mean 5% low.
-    Image lt = test::render(s, 32, test::spp(4096), "lt", 8, 0, 32);
-    expect_agree(lt, pt, 16, 0.02, 0.10, "lt vs pt");
+    // Light tracing divides by |wo.ng| near the terminator, a heavy-tailed estimator, and from a
+    // point light 4.7 radii away only 1.1% of the particles hit the sphere: blocks within 3%
+    // would take 16M particles. The same point light with its emission restricted to a 15 degree
+    // cone round the sphere (12.3 degrees wide as seen from the light; inside the cone a glTF
+    // spot's intensity is the point light's) lights the sphere identically, and sends every
+    // particle to it: with it light tracing converges to 3% blocks in a tenth of the time.
+    PunctualLight spot = pl;
+    spot.type = LightType::Spot;
+    spot.direction = normalize(-pl.position);
+    spot.cos_inner = std::cos(15.0f * k_pi / 180.0f);
+    spot.cos_outer = std::cos(15.5f * k_pi / 180.0f);
+    Scene spot_scene = s;
+    spot_scene.lights = {spot};
+    Image lt = test::render(spot_scene, 32, test::spp(1024), "lt", 8, 0, 32);
+    expect_agree(lt, pt, 16, 0.01, 0.03, "lt vs pt");
 }
 
 // A smooth mirror (a Dirac delta BSDF) lit by an area light: strategies that cannot sample a
@@ -148,6 +185,157 @@ TEST(BidirectionalDelta, MirrorSphereUnderAreaLight) {
     Image bdpt = test::render(s, 64, test::spp(256), "bdpt", 16, 0, 42, &stats);
     EXPECT_EQ(stats.nonfinite_samples, 0u);
     expect_agree(bdpt, pt, 16, 0.02, 0.05, "bdpt vs pt");
+}
+
+// A closed axis-aligned box from `lo` to `hi`, wound so that every geometric normal points out
+// (the side a transmissive mesh is entered from).
+Mesh make_box(Vec3 lo, Vec3 hi) {
+    Mesh m;
+    Vec3 c = (lo + hi) * 0.5f;
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
+    const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : faces) {
+        for (const auto& tri : {std::array<uint32_t, 3>{f[0], f[1], f[2]}, std::array<uint32_t, 3>{f[0], f[2], f[3]}}) {
+            Vec3 a = m.positions[tri[0]], b = m.positions[tri[1]], d = m.positions[tri[2]];
+            bool outward = dot(cross(b - a, d - a), (a + b + d) * (1.0f / 3.0f) - c) > 0.0f;
+            m.indices.insert(m.indices.end(), {tri[0], outward ? tri[1] : tri[2], outward ? tri[2] : tri[1]});
+        }
+    }
+    return m;
+}
+
+// KHR_materials_volume in bidirectional transport: a rough glass block that absorbs (red most)
+// on a diffuse floor under an area light. Light reaches the camera through the block along
+// every kind of edge: light subpath segments inside it (lt, bdpt), camera subpath segments
+// (pt, bdpt) and connection edges that start inside it. All three integrators agree, so the
+// attenuation of each edge depends on the medium its ends are in, and nothing else.
+TEST(BidirectionalVolume, AbsorbingRoughGlassBlockAgreesAcrossIntegrators) {
+    Scene s;
+    Mesh block = make_box(Vec3(-0.5f, 0.05f, -0.5f), Vec3(0.5f, 0.85f, 0.5f));  // not coplanar with the floor
+    block.material = 0;
+    Mesh floor;
+    floor.positions = {{-4, 0, -1.5f}, {4, 0, -1.5f}, {4, 0, 4}, {-4, 0, 4}, {-4, 4, -1.5f}, {4, 4, -1.5f}};
+    floor.indices = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4};  // and a back wall
+    floor.material = 1;
+    Mesh lamp;
+    lamp.positions = {{-0.5f, 2.2f, -0.8f}, {0.5f, 2.2f, -0.8f}, {0.5f, 2.2f, 0.2f}, {-0.5f, 2.2f, 0.2f}};
+    lamp.indices = {0, 1, 2, 0, 2, 3};
+    lamp.material = 2;
+    s.meshes = {block, floor, lamp};
+    Material glass;
+    glass.base_color = Rgb(1.0f);
+    glass.metallic = 0;
+    glass.roughness = 0.5f;  // rough enough for a light path to be connected to the camera from it
+    glass.transmission = 1;
+    glass.ior = 1.5f;
+    glass.attenuation_color = Rgb(0.25f, 0.6f, 0.9f);
+    glass.attenuation_distance = 0.5f;
+    glass.double_sided = true;
+    s.materials = {glass, test::lambert(Rgb(0.7f)), test::lambert(Rgb(0), Rgb(10.0f))};
+    for (uint32_t i = 0; i < 3; ++i) s.instances.push_back({i, Transform()});
+    s.cameras.push_back(test::camera_at(Vec3(0.3f, 0.5f, 2.6f), 0.7f));
+    s.features.transmission = true;
+    s.features.volume = true;
+    RenderStats stats;
+    const int size = 32;
+    Image pt = test::render(s, size, test::spp(2048), "pt", 32, 0, 61, &stats);
+    EXPECT_EQ(stats.nonfinite_samples, 0u);
+    Image bdpt = test::render(s, size, test::spp(1024), "bdpt", 32, 0, 62, &stats);
+    EXPECT_EQ(stats.nonfinite_samples, 0u);
+    Image lt = test::render(s, size, test::spp(4096), "lt", 32, 0, 63, &stats);
+    EXPECT_EQ(stats.nonfinite_samples, 0u);
+    expect_agree(bdpt, pt, 16, 0.01, 0.03, "bdpt vs pt");
+    // (Light tracing reaches the camera through the block only by connecting a particle on its
+    // surface through the rough transmission lobe: at 4096 spp its blocks scatter by up to 2% and
+    // its means by 0.7% over seeds.) This test found the path tracer attenuating a light sample
+    // taken through the block's wall with the interior's absorption all the way to the lamp: bdpt
+    // and lt were then 1.8% brighter in green, with blocks 5% off.
+    expect_agree(lt, pt, 16, 0.01, 0.03, "lt vs pt");
+    // The same block without absorption is much brighter in red: the attenuation is really there.
+    Scene clear = s;
+    clear.materials[0].attenuation_distance = 0;
+    Image bdpt_clear = test::render(clear, size, test::spp(256), "bdpt", 32, 0, 64);
+    EXPECT_LT(test::channel_mean(bdpt, 0), 0.95 * test::channel_mean(bdpt_clear, 0));
+}
+
+// The analytic Beer-Lambert case in bdpt: an index-matched (ior 1, no reflection, no bending)
+// absorbing sphere in a uniform environment of radiance 1, seen through its centre along a
+// chord of length attenuationDistance, transmits attenuationColor.
+TEST(BidirectionalVolume, IndexMatchedSphereTransmitsAttenuationColourOverItsDiameter) {
+    Scene s;
+    s.meshes.push_back(test::make_sphere(1.0f, Vec3(0, 0, 0), 96, 48));
+    Material glass;
+    glass.base_color = Rgb(1.0f);
+    glass.metallic = 0;
+    glass.roughness = 0;
+    glass.transmission = 1;
+    glass.ior = 1.0f;
+    const Rgb color(0.5f, 0.25f, 0.8f);
+    glass.attenuation_color = color;
+    glass.attenuation_distance = 2.0f;  // the diameter
+    glass.double_sided = true;
+    s.materials.push_back(glass);
+    s.meshes[0].material = 0;
+    s.instances.push_back({0, Transform()});
+    // A 0.04 rad field keeps every ray within 0.06 of the centre: the chord is 2 within 0.1%.
+    s.cameras.push_back(test::camera_at(Vec3(0, 0, 3.0f), 0.04f));
+    s.environment.enabled = true;
+    s.environment.color = Rgb(1.0f);
+    s.features.environment = s.features.transmission = s.features.volume = true;
+    RenderResult r = render_scene(s, [] {
+        RenderJobOptions o;
+        o.width = o.height = 8;
+        o.render.spp = 64;
+        o.render.integrator = "bdpt";
+        return o;
+    }());
+    EXPECT_EQ(r.integrator, "bdpt");  // no longer replaced by pt
+    const float expected[3] = {color.r, color.g, color.b};
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(test::channel_mean(r.image, c), expected[c], 0.01 * expected[c]) << c;
+}
+
+// What makes light tracing through the spheres' glass trustworthy despite its heavy tail: a
+// connection evaluates f, the camera and light subpaths sample it, and for a near-smooth
+// (roughness 0.05) transmissive lobe both agree sample by sample: weight = f |cos| / pdf, and
+// the reported pdf is the one sampled with; in importance mode white glass conserves energy.
+TEST(BidirectionalGlossy, NarrowTransmissionLobeEvaluatesWhatItSamples) {
+    for (float eta : {1.5f, 1.0f / 1.5f})
+        for (float theta : {0.2f, 0.8f, 1.3f}) {
+            ShadingInputs in;
+            in.base_color = Rgb(1.0f);
+            in.metallic = 0;
+            in.alpha = 0.05f * 0.05f;
+            in.dielectric_f0 = Rgb(0.04f);
+            in.dielectric_f90 = 1.0f;
+            in.transmission = 1;
+            in.ior = 1.5f;
+            GltfBsdf bsdf(in, eta);
+            Vec3 wo(std::sin(theta), 0.0f, std::cos(theta));
+            Rng rng(7, 9);
+            for (TransportMode mode : {TransportMode::Radiance, TransportMode::Importance}) {
+                const int n = 50000;
+                int mismatches = 0, evaluated = 0;
+                double sum_weight = 0;
+                for (int i = 0; i < n; ++i) {
+                    BsdfSample bs;
+                    if (!bsdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), &bs, mode)) continue;
+                    sum_weight += bs.weight.g;
+                    if (bs.delta) continue;
+                    ++evaluated;
+                    float pdf = bsdf.pdf_w(wo, bs.wi);
+                    float expected = bsdf.eval(wo, bs.wi, mode).g * std::fabs(bs.wi.z) / pdf;
+                    if (!(std::fabs(expected - bs.weight.g) <= 1e-3f * std::max(1.0f, bs.weight.g)) ||
+                        !(std::fabs(pdf - bs.pdf_w) <= 1e-3f * bs.pdf_w))
+                        ++mismatches;
+                }
+                EXPECT_GT(evaluated, n / 2) << "eta " << eta << " theta " << theta;
+                EXPECT_EQ(mismatches, 0) << "eta " << eta << " theta " << theta;
+                if (mode == TransportMode::Importance) {
+                    EXPECT_NEAR(sum_weight / n, 1.0, 0.002) << "eta " << eta << " theta " << theta;
+                }
+            }
+        }
 }
 
 // Light-tracing splats are summed with atomics: thread count may change only the order of

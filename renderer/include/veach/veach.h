@@ -13,6 +13,13 @@
  *   veachWriteImage(r, "out.png");  (or veachGetPass into your own buffer)
  *   veachReleaseRender(r); veachReleaseScene(s); veachReleaseDevice(d);
  *
+ * Options a scene needs before it is loaded (glTF scene index, KHR_materials_variants variant, spot
+ * profile, environment) go through veachNewScene + veachSetScene* + veachLoadSceneFile.
+ *
+ * Strings come back through caller-owned buffers (veachGet*String): `size` bytes at most,
+ * always NUL-terminated when size > 0, and *length (if not NULL) set to the full length, so a
+ * call with size 0 asks for the length. Lists are one item per line ("a\nb").
+ *
  * There is no global mutable state: any number of devices, scenes and renders may live and render
  * at once in one process. Handles may be used from any thread, but a render's options must not
  * change while it runs.
@@ -24,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 1
+#define VEACH_VERSION_MINOR 2
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -91,6 +98,15 @@ VEACH_API VeachDevice veachNewDevice(void);
 VEACH_API void veachRetainDevice(VeachDevice device);
 VEACH_API void veachReleaseDevice(VeachDevice device);
 VEACH_API void veachSetDeviceErrorFunction(VeachDevice device, VeachErrorFunction fn, void* user);
+/* Device queries (since 0.2):
+ *   int:    peak_memory_bytes (the process's peak resident set so far, 0 where unknown)
+ *   string: integrators, filters, passes, exr_codecs (the names the options accept, one a line);
+ *           color_config ("$OCIO=/path" or "built-in": the OpenColorIO config in use),
+ *           color_displays, color_looks, color_views:DISPLAY (one a line). A config that cannot be
+ *           read is VEACH_ERROR_BAD_INPUT. */
+VEACH_API VeachError veachGetDeviceInt(VeachDevice device, const char* name, long long* value);
+VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, char* buffer, size_t size,
+                                          size_t* length);
 
 /* ---- Scenes: imported once, immutable, shared by any number of renders -------------------- */
 
@@ -100,6 +116,34 @@ VEACH_API VeachScene veachNewSceneFromFile(VeachDevice device, const char* path)
  * URIs resolve against `base_dir` (may be NULL). The bytes are copied. */
 VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* data, size_t size,
                                              const char* format, const char* base_dir);
+/* The same in steps, for options that shape the scene (since 0.2): an empty scene, its options, then one
+ * load. Options (an unknown name, a wrong type or a bad value is VEACH_ERROR_INVALID_ARGUMENT; any
+ * option after the load is VEACH_ERROR_INVALID_OPERATION):
+ *   int:    scene_index (glTF scene, -1 = the file's default), allow_external_files (0 or 1: URIs
+ *           may point outside the file's folder)
+ *   float:  env_strength (>= 0, default 1), env_rotate (degrees about +Y, as a Mapping node's Z
+ *           rotation in Blender's world shader)
+ *   string: variant (KHR_materials_variants; an unknown name fails the load, listing the file's),
+ *           spot_falloff ("auto", "blender", "gltf"), env_map (an equirectangular image file;
+ *           unreadable fails the load with VEACH_ERROR_BAD_INPUT), env_color ("R,G,B": a uniform
+ *           linear radiance; excludes env_map)
+ * After loading, read-only: int triangles, cameras and what scene repair changed
+ * (repaired_invalid_indices, repaired_nonfinite_triangles, repaired_degenerate_triangles,
+ * repaired_duplicate_triangles, repaired_normals_replaced, repaired_normals_normalized,
+ * repaired_uvs_replaced, repaired_colors_replaced, repaired_lights_dropped); string source (the
+ * path loaded), features (the scene features found), warnings (import warnings); and every option.
+ * A scene must be loaded before veachNewRender. */
+VEACH_API VeachScene veachNewScene(VeachDevice device);
+VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long long value);
+VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, double value);
+VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, const char* value);
+VEACH_API VeachError veachLoadSceneFile(VeachScene scene, const char* path);
+VEACH_API VeachError veachLoadSceneMemory(VeachScene scene, const void* data, size_t size, const char* format,
+                                          const char* base_dir);
+VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long long* value);
+VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, double* value);
+VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, char* buffer, size_t size,
+                                         size_t* length);
 VEACH_API void veachRetainScene(VeachScene scene);
 VEACH_API void veachReleaseScene(VeachScene scene);
 VEACH_API int veachGetSceneCameraCount(VeachScene scene);
@@ -116,18 +160,39 @@ VEACH_API void veachReleaseRender(VeachRender render);
 /* Options (the name decides the type; a wrong type or unknown name is VEACH_ERROR_INVALID_ARGUMENT):
  *   int:    width (default 1920), height (0 = from the camera's aspect), spp (64), seed (0),
  *           max_depth (64), threads (0 = all cores), bits (PNG/TIFF: 8 or 16), quality (JPEG),
- *           half (EXR half floats: 0 or 1), aovs (1: record the depth, normal and albedo passes)
- *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1), exposure (stops), gamma
+ *           half (EXR half floats: 0 or 1), aovs (1: record the depth, normal and albedo passes),
+ *           bdpt_s, bdpt_t (bdpt: render only the strategy with s light and t camera vertices,
+ *           unweighted, for verification; -1 = all), resume (0 or 1: start from the checkpoint
+ *           file when it exists)
+ *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1; Blender's default is
+ *           1.5 for its smooth filters), exposure (stops), gamma,
+ *           noise (adaptive sampling: a pixel stops once its estimated relative error is below
+ *           this; 0 = off, every pixel gets spp), checkpoint_interval (seconds: keep the
+ *           checkpoint file up to date at the first pass boundary after this long, 0 = every
+ *           pass, negative = never write: the default)
  *   string: integrator ("bdpt", "pt", "lt"), camera (a name or an index, "" = the first),
  *           filter ("box", "gaussian", "blackman-harris"; Cycles' pixel filters),
- *           display, view, look (OpenColorIO, for PNG/JPEG/TIFF output)
- * Results, read-only, through the getters: int result_width, result_height, result_spp;
- *   float progress, eta_seconds, render_seconds. Every option can be read back too. */
+ *           sampler ("sobol", "random"), display, view, look (OpenColorIO, for PNG/JPEG/TIFF),
+ *           exr_codec (none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab; "zip:N" and
+ *           "dwaa:N" set a level), passes (EXR: "" for plain RGBA, else a comma-separated list
+ *           from combined, depth, normal, albedo, variance written as a multi-layer EXR with
+ *           Blender's names; depth, normal and albedo turn aovs on), checkpoint (a file holding
+ *           the film's state between passes, so that a killed render resumes to the same image;
+ *           a checkpoint of another render or scene is refused with VEACH_ERROR_BAD_INPUT; not
+ *           deleted by the library: remove it once the image is safe)
+ * Results, read-only, through the getters: int result_width, result_height, result_spp (samples
+ *   every pixel completed), result_resumed_spp (from the checkpoint), result_complete (1 unless
+ *   cancelled before the requested samples), result_camera_samples, result_rays,
+ *   result_nonfinite_samples (dropped); float progress, eta_seconds, render_seconds,
+ *   build_seconds; string result_camera, result_integrator (the one that rendered),
+ *   result_warnings. Every option can be read back too. */
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value);
 VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value);
 VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value);
 VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long* value);
 VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double* value);
+VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* buffer, size_t size,
+                                    size_t* length);
 
 VEACH_API void veachSetProgressFunction(VeachRender render, VeachProgressFunction fn, void* user);
 
@@ -140,7 +205,12 @@ VEACH_API VeachError veachRenderAsync(VeachRender render);
  * reported to this caller too (last error). */
 VEACH_API VeachStatus veachWaitRender(VeachRender render, int timeout_ms);
 VEACH_API VeachStatus veachGetRenderStatus(VeachRender render);
-/* Asks a running render to stop; returns at once. The render stops within one 16x16 tile. */
+/* Asks a running render to stop; returns at once. The render stops within one 16x16 tile.
+ * It only sets an atomic flag, but it is not async-signal-safe by contract: a program that stops
+ * on SIGINT/SIGTERM should set its own std::atomic<bool> (or sig_atomic_t) in the handler and
+ * call veachCancelRender from ordinary code, e.g. a thread polling veachWaitRender(r, 50), or
+ * by returning false from the progress callback (slower: it runs once per pass). The veach
+ * command does the former. */
 VEACH_API void veachCancelRender(VeachRender render);
 
 /* Copies a finished (or cancelled) render's pass into `dst`: 4 floats per pixel, row 0 at the top,
@@ -149,8 +219,12 @@ VEACH_API void veachCancelRender(VeachRender render);
  * (z, z, z, 1: camera-space Z of the first hit, 1e10 where nothing was hit, as Blender's Z pass),
  * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1). */
 VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t row_stride_bytes);
-/* Writes the combined pass through the output driver: format from the extension; EXR/HDR
- * scene-linear, PNG/JPEG/TIFF through the OpenColorIO view. Atomic: never a half-written file. */
+/* Writes the combined pass (and for EXR the `passes` option's layers) through the output driver:
+ * format from the extension (.exr .hdr .png .jpg .tif); EXR/HDR scene-linear, PNG/JPEG/TIFF
+ * through the OpenColorIO view (display, view, look, exposure, gamma), with the bits, quality,
+ * half and exr_codec options. Metadata: Software, veach:scene, veach:camera, veach:spp,
+ * veach:spp_requested, veach:complete, veach:seed, veach:integrator, veach:filter,
+ * veach:render_seconds (and veach:resumed_spp). Atomic: never a half-written file. */
 VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
 
 #ifdef __cplusplus

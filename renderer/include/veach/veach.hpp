@@ -5,6 +5,7 @@
 //
 //   veach::Device device;
 //   veach::Scene scene(device, "cornell.gltf");
+//   (or veach::Scene scene(device); scene.set("env_color", "1,1,1").set("variant", "red"); scene.load(path);)
 //   veach::Render render(scene);
 //   render.set("width", 512).set("spp", 64).set("integrator", "pt");
 //   render.on_progress([](double f, double eta) { return true; });
@@ -43,6 +44,17 @@ inline void check(VeachError code) {
     if (code != VEACH_ERROR_NONE) throw_last_error(code);
 }
 
+// A string the library copies into a caller's buffer (veach.h): ask for the length, then copy.
+template <class Get>
+std::string get_string(Get&& get) {
+    size_t length = 0;
+    check(get(nullptr, 0, &length));
+    std::string s(length + 1, '\0');
+    check(get(s.data(), s.size(), &length));
+    s.resize(length < s.size() ? length : s.size() - 1);
+    return s;
+}
+
 // A reference-counted handle: copies retain, destruction releases.
 template <class H, void (*Retain)(H), void (*Release)(H)>
 class Handle {
@@ -79,6 +91,15 @@ public:
     }
     // The callback runs on the thread where the error happened; it must outlive the device.
     void set_error_function(VeachErrorFunction fn, void* user) { veachSetDeviceErrorFunction(m_h, fn, user); }
+    long long get_int(const char* name) const {
+        long long v = 0;
+        detail::check(veachGetDeviceInt(m_h, name, &v));
+        return v;
+    }
+    // e.g. "integrators", "color_displays": one item a line.
+    std::string get_string(const char* name) const {
+        return detail::get_string([&](char* b, size_t n, size_t* l) { return veachGetDeviceString(m_h, name, b, n, l); });
+    }
 };
 
 class Scene : public detail::Handle<VeachScene, veachRetainScene, veachReleaseScene> {
@@ -90,6 +111,41 @@ public:
           const std::string& base_dir = "")
         : Handle(veachNewSceneFromMemory(device.get(), data, size, format.c_str(), base_dir.c_str())) {
         if (!m_h) detail::throw_last_error(VEACH_ERROR_BAD_INPUT);
+    }
+    // An empty scene, for options that shape it: set(...), then load(...) once.
+    explicit Scene(const Device& device) : Handle(veachNewScene(device.get())) {
+        if (!m_h) detail::throw_last_error();
+    }
+    Scene& set(const char* name, int value) { return set(name, static_cast<long long>(value)); }
+    Scene& set(const char* name, long long value) {
+        detail::check(veachSetSceneInt(m_h, name, value));
+        return *this;
+    }
+    Scene& set(const char* name, double value) {
+        detail::check(veachSetSceneFloat(m_h, name, value));
+        return *this;
+    }
+    Scene& set(const char* name, const std::string& value) { return set(name, value.c_str()); }
+    Scene& set(const char* name, const char* value) {
+        detail::check(veachSetSceneString(m_h, name, value));
+        return *this;
+    }
+    void load(const std::string& path) { detail::check(veachLoadSceneFile(m_h, path.c_str())); }
+    void load(const void* data, size_t size, const std::string& format, const std::string& base_dir = "") {
+        detail::check(veachLoadSceneMemory(m_h, data, size, format.c_str(), base_dir.c_str()));
+    }
+    long long get_int(const char* name) const {
+        long long v = 0;
+        detail::check(veachGetSceneInt(m_h, name, &v));
+        return v;
+    }
+    double get_float(const char* name) const {
+        double v = 0;
+        detail::check(veachGetSceneFloat(m_h, name, &v));
+        return v;
+    }
+    std::string get_string(const char* name) const {
+        return detail::get_string([&](char* b, size_t n, size_t* l) { return veachGetSceneString(m_h, name, b, n, l); });
     }
     std::vector<std::string> camera_names() const {
         std::vector<std::string> names;
@@ -139,6 +195,9 @@ public:
         return v;
     }
 
+    std::string get_string(const char* name) const {
+        return detail::get_string([&](char* b, size_t n, size_t* l) { return veachGetString(m_h, name, b, n, l); });
+    }
     // Called on the rendering thread after each pass; return false to cancel.
     void on_progress(std::function<bool(double fraction, double eta_seconds)> fn) {
         m_progress = std::move(fn);

@@ -6,6 +6,7 @@
 #include "integrators/first_hit_aovs.h"
 #include "integrators/bdpt/path_vertex.h"
 #include "integrators/surface_hit.h"
+#include "materials/volume_absorption.h"
 
 namespace veach {
 
@@ -27,9 +28,25 @@ float to_area_density(float pdf_w, const PathVertex& from, const PathVertex& to)
     return pdf;
 }
 
+// KHR_materials_volume. Media are the interiors of closed, non-nested transmissive meshes, as the
+// path tracer assumes; cameras, lights and the environment are in air. A vertex knows the medium
+// its own subpath arrived through (sigma_in); a segment leaving it on that side travels in the
+// same medium, one leaving through a transmissive surface travels in the mesh's interior when it
+// enters and in air when it leaves. Beer-Lambert transmittance is part of each edge's throughput:
+// it is symmetric in the two ends and no sampling decision depends on it, so every strategy's
+// densities, and with them the MIS weights, are those of the medium-free path. A connection edge
+// takes its medium from the camera-side end (the path tracer's light-sample rule); in a closed
+// scene the light-side end agrees, since the edge is unoccluded.
+Rgb medium_toward(const PathVertex& v, const Vec3& w) {
+    if (v.kind != PathVertex::Kind::Surface || !v.bsdf.has_transmission()) return v.sigma_in;
+    if (dot(w, v.bsdf.geometric_normal()) > 0.0f) return v.sigma_in;  // back to the arrival side
+    return v.bsdf.entering() ? v.material->absorption() : Rgb(0.0f);
+}
+
 // Everything a thread needs for one tile: subpath storage allocated once, not per path.
 struct Workspace {
     std::vector<PathVertex> camera, light;
+    PathVertex light_sample;  // the light end of a next-event connection (s = 1)
 };
 
 class Tracer {
@@ -45,7 +62,7 @@ private:
     int trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng);
     int trace_light_subpath(Workspace& ws, Sampler& rng);
     int random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
-                    TransportMode mode, int max_vertices, Sampler& rng);
+                    TransportMode mode, int max_vertices, Sampler& rng, float roulette_scale);
     bool visible(const PathVertex& a, const PathVertex& b);
     Rgb emitted_toward(const PathVertex& v, const Vec3& w) const;
     float light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const;
@@ -69,8 +86,9 @@ private:
 };
 
 // Fills a surface vertex from a hit and builds its BSDF facing the arriving direction.
-void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& dir, PathVertex* v) {
-    SurfaceHit hit = make_surface_hit(rs, rh);
+void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& dir, PathVertex* v,
+                         float footprint_width = 0.0f) {
+    SurfaceHit hit = make_surface_hit(rs, rh, footprint_width);
     v->kind = PathVertex::Kind::Surface;
     v->p = hit.p;
     v->p_error = hit.p_error;
@@ -88,8 +106,12 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
     v->bsdf = SurfaceBsdf(hit.ng, hit.ns, -dir, in);
 }
 
+// roulette_scale: 1 / the throughput the subpath started with, so that Russian roulette follows
+// the fraction of it still carried (a light subpath's throughput is in units of emitted power,
+// far above 1, and compared with 1 it would never be terminated).
 int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
-                        TransportMode mode, int max_vertices, Sampler& rng) {
+                        TransportMode mode, int max_vertices, Sampler& rng, float roulette_scale) {
+    Rgb sigma(0.0f);  // both subpaths start in air
     while (count < max_vertices) {
         RayHit rh;
         ++m_stats.rays;
@@ -98,8 +120,7 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
                 // A camera subpath that escapes ends on the environment: a light vertex at
                 // infinity, where directions are the area measure (pdf_fwd per solid angle).
                 PathVertex& v = path[count];
-                v = PathVertex();
-                v.kind = PathVertex::Kind::Light;
+                v.reset_endpoint(PathVertex::Kind::Light);
                 v.infinite = true;
                 v.light = m_lights.environment_index();
                 v.light_dir = -dir;
@@ -112,8 +133,12 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
         }
         PathVertex& prev = path[count - 1];
         PathVertex& v = path[count];
-        fill_surface_vertex(m_rs, rh, dir, &v);
+        // Only the camera ray carries a cone for texture mip levels (README, "Textures").
+        bool camera_ray = prev.kind == PathVertex::Kind::Camera;
+        fill_surface_vertex(m_rs, rh, dir, &v, camera_ray ? m_camera.footprint_width(rh.t, dir) : 0.0f);
+        beta *= beer_lambert(sigma, rh.t * length(dir));  // the segment just travelled
         v.beta = beta;
+        v.sigma_in = sigma;
         if (prev.kind == PathVertex::Kind::Light && prev.infinite) {
             // Parallel rays from a disc: the density of the point is the disc's, projected.
             v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
@@ -143,13 +168,14 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
         }
         beta *= bs.weight;
         if (count >= k_roulette_start_vertex) {
-            float q = std::min(1.0f, beta.max());
+            float q = std::min(1.0f, beta.max() * roulette_scale);
             if (rng.next_float() >= q) break;
             beta = beta / q;
         }
         if (beta.is_black()) break;
         prev.pdf_rev = to_area_density(pdf_rev_w, v, prev);
         pdf_w = pdf_fwd_w;
+        sigma = medium_toward(v, wi);
         origin = offset_ray_origin(v.p, v.p_error, v.ng, wi);
         dir = wi;
     }
@@ -158,8 +184,7 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
 
 int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng) {
     PathVertex& c = ws.camera[0];
-    c = PathVertex();
-    c.kind = PathVertex::Kind::Camera;
+    c.reset_endpoint(PathVertex::Kind::Camera);
     Vec3 origin, dir;
     m_camera.generate_ray(fx, fy, &origin, &dir);
     c.p = origin;
@@ -168,7 +193,7 @@ int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng
     c.delta = m_camera.orthographic();
     float pdf_w = m_camera.orthographic() ? 1.0f / m_camera.image_plane_area() : m_camera.pdf_dir_w(dir);
     int max_vertices = m_settings.max_depth + 2;
-    return random_walk(ws.camera, 1, origin, dir, Rgb(1.0f), pdf_w, TransportMode::Radiance, max_vertices, rng);
+    return random_walk(ws.camera, 1, origin, dir, Rgb(1.0f), pdf_w, TransportMode::Radiance, max_vertices, rng, 1.0f);
 }
 
 int Tracer::trace_light_subpath(Workspace& ws, Sampler& rng) {
@@ -179,8 +204,7 @@ int Tracer::trace_light_subpath(Workspace& ws, Sampler& rng) {
     if (m_lights.empty() || !m_lights.sample_emission(u_select, u1, u2, u3, u4, &e)) return 0;
     float pmf = m_lights.selection_pmf(e.light);
     PathVertex& l = ws.light[0];
-    l = PathVertex();
-    l.kind = PathVertex::Kind::Light;
+    l.reset_endpoint(PathVertex::Kind::Light);
     l.light = e.light;
     l.p = e.point;
     l.ng = e.normal;
@@ -212,7 +236,9 @@ int Tracer::trace_light_subpath(Workspace& ws, Sampler& rng) {
         l.p_error = abs(e.point) * (32.0f * 0x1p-24f);
         origin = offset_ray_origin(e.point, l.p_error, e.normal, e.dir);
     }
-    return random_walk(ws.light, 1, origin, e.dir, beta, pdf_w, TransportMode::Importance, max_vertices, rng);
+    if (!(beta.max() > 0.0f)) return 1;
+    return random_walk(ws.light, 1, origin, e.dir, beta, pdf_w, TransportMode::Importance, max_vertices, rng,
+                       1.0f / beta.max());
 }
 
 bool Tracer::visible(const PathVertex& a, const PathVertex& b) {
@@ -275,9 +301,7 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
     if (s == 0) {
         z_rev = light_origin_pdf_a(*z, z_prev ? normalize(z_prev->p - z->p) : Vec3(0, 0, 1));
         if (z_prev) {
-            PathVertex as_light = *z;
-            as_light.kind = PathVertex::Kind::Light;
-            z_prev_rev = light_emission_pdf_area(as_light, *z_prev);
+            z_prev_rev = light_emission_pdf_area(*z, *z_prev);  // z as the origin of a light subpath
         }
     } else {
         if (t > 1) {
@@ -369,6 +393,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 }
                 if (f.is_black()) continue;
                 Rgb c = y.beta * f * (we * dot(w, m_camera.forward()) / dist2);
+                c *= beer_lambert(medium_toward(y, -w), std::sqrt(dist2));
                 if (c.is_black() || !visible(y, z)) continue;
                 float weight = weighted() ? mis_weight(ws.light, s, ws.camera, 1, nullptr) : 1.0f;
                 c = c * weight;
@@ -389,10 +414,11 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 ++m_stats.rays;
                 if (m_rs.accel().occluded(o, ls.wi, t_max)) continue;
                 Rgb c = z.beta * f * ls.radiance / ls.pdf_w;
+                c *= beer_lambert(medium_toward(z, ls.wi), ls.is_infinite ? 0.0f : length(ls.point - z.p));
                 float w = 1.0f;
                 if (weighted()) {
-                    PathVertex lv;
-                    lv.kind = PathVertex::Kind::Light;
+                    PathVertex& lv = ws.light_sample;
+                    lv.reset_endpoint(PathVertex::Kind::Light);
                     lv.light = ls.light;
                     lv.p = ls.point;
                     lv.infinite = ls.is_infinite;
@@ -420,6 +446,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 Rgb fz = z.bsdf.eval(normalize(ws.camera[t - 2].p - z.p), -w, TransportMode::Radiance);
                 if (fz.is_black()) continue;
                 Rgb c = y.beta * fy * fz * z.beta / dist2;
+                c *= beer_lambert(medium_toward(z, -w), std::sqrt(dist2));
                 if (c.is_black() || !visible(z, y)) continue;
                 float weight = weighted() ? mis_weight(ws.light, s, ws.camera, t, nullptr) : 1.0f;
                 radiance += c * weight;

@@ -10,9 +10,10 @@
 // recurrence p_{i+1}/p_i = pdf_rev/pdf_fwd of the vertex that changes sides (pbrt-v3 section
 // 16.3.4), O(s + t) per strategy.
 //
-// Russian roulette: subpaths are terminated with probability 1 - min(1, max(beta)) after a few
-// vertices and survivors divide their throughput by the survival probability, so each strategy's
-// estimate stays unbiased. The MIS weights use the densities *without* the roulette factor. This
+// Russian roulette: subpaths are terminated with probability 1 - min(1, max(beta) / max(beta_0))
+// after a few vertices (beta_0 the throughput the subpath started with: 1 for the camera, the
+// emitted power's scale for a light) and survivors divide their throughput by the survival
+// probability, so each strategy's estimate stays unbiased. The MIS weights use the densities *without* the roulette factor. This
 // is unbiased too: weights only need to sum to one over the strategies for every path, and they
 // do, because every strategy evaluates the same deterministic function of the path (the
 // roulette-free densities); only the weights' optimality is slightly affected.

@@ -11,6 +11,17 @@
 namespace veach {
 
 struct PathVertex {
+    // What a vertex's BSDF holds until a hit fills it: black Lambert, which builds nothing (a
+    // default SurfaceBsdf builds microfacet lobes, and the first one computes the Kulla-Conty
+    // tables, 0.08 s, even in scenes where every material is Lambertian).
+    static ShadingInputs placeholder_inputs() {
+        ShadingInputs in;
+        in.base_color = Rgb(0.0f);
+        in.dielectric_f0 = Rgb(0.0f);
+        in.dielectric_f90 = 0.0f;
+        return in;
+    }
+
     enum class Kind : uint8_t { Camera, Light, Surface };
 
     Kind kind = Kind::Surface;
@@ -22,15 +33,32 @@ struct PathVertex {
     Vec3 ng;                      // geometric normal (surfaces, area lights)
     bool has_normal = false;      // false for the camera, point, spot and directional lights
     Rgb beta;                     // path throughput up to and including this vertex's sampling
+    // KHR_materials_volume: sigma_a of the medium the subpath's segment arriving here crossed
+    // (zero for air; camera and light vertices are in air). See medium_toward().
+    Rgb sigma_in;
     float pdf_fwd = 0, pdf_rev = 0;
     // Surfaces:
-    SurfaceBsdf bsdf;
+    SurfaceBsdf bsdf{Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1), placeholder_inputs()};
     const Material* material = nullptr;
     SurfaceAttributes attr;
     uint32_t instance = 0, prim = 0;
     // Lights (light vertices, and surface vertices on an emitter):
     int64_t light = -1;
     Vec3 light_dir;               // directional light vertex: the direction light travels
+
+    // Makes this slot a fresh camera or light vertex. The BSDF is left as it was: endpoints never
+    // read it, and building a default one per path cost as much as a connection (perf, cornell).
+    void reset_endpoint(Kind k) {
+        kind = k;
+        delta = delta_light = infinite = has_normal = false;
+        p = p_error = ng = light_dir = Vec3();
+        beta = sigma_in = Rgb(0.0f);
+        pdf_fwd = pdf_rev = 0.0f;
+        material = nullptr;
+        attr = SurfaceAttributes();
+        instance = prim = 0;
+        light = -1;
+    }
 };
 
 }  // namespace veach

@@ -37,7 +37,9 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
             }
             break;
         }
-        SurfaceHit hit = make_surface_hit(rs, rh);
+        // The camera ray's cone picks texture mip levels; later bounces read full resolution
+        // (README, "Textures").
+        SurfaceHit hit = make_surface_hit(rs, rh, bounce == 0 ? rs.camera().footprint_width(rh.t, dir) : 0.0f);
         beta *= beer_lambert(sigma_a, rh.t * length(dir));  // the segment just travelled
         Vec3 wo = -dir;
 
@@ -76,8 +78,14 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
                 ++stats.rays;
                 if (!rs.accel().occluded(o, ls.wi, t_max)) {
                     float w = ls.is_delta ? 1.0f : power_heuristic(ls.pdf_w, bsdf.pdf_w(wo, ls.wi));
-                    // An unoccluded light seen from inside a closed medium is inside it too.
-                    Rgb tr = beer_lambert(sigma_a, ls.is_infinite ? 0.0f : length(ls.point - hit.p));
+                    // The shadow segment travels in the medium on its side of this surface: the
+                    // path's own when it leaves on the side the path arrived from, else the one
+                    // across the surface (a light sample through the wall of a glass block
+                    // leaves the block at once).
+                    Rgb sigma_ls = sigma_a;
+                    if (dot(ls.wi, hit.ng) * dot(wo, hit.ng) < 0.0f)
+                        sigma_ls = bsdf.entering() ? hit.material->absorption() : Rgb(0.0f);
+                    Rgb tr = beer_lambert(sigma_ls, ls.is_infinite ? 0.0f : length(ls.point - hit.p));
                     radiance += beta * tr * f * ls.radiance * (w / ls.pdf_w);
                 }
             }

@@ -1,0 +1,391 @@
+// The C API's scenes: options that shape a scene before it is loaded (glTF scene index, variant,
+// spot profile, environment), the one load, and what the load found (triangles, repairs,
+// features, warnings).
+//
+// Why the options belong to the scene and not to a render: a scene is imported once and shared
+// read-only by any number of renders, and every one of these options changes what is imported
+// (materials, lights) or what lights it (the environment is a light in the LightSet). Putting
+// them on a render would mean copying the scene per render.
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "api/c_api_handles.h"
+#include "film/film_checkpoint.h"
+#include "scene/scene_repair.h"
+
+using veach::capi::ApiError;
+using veach::capi::guarded;
+using veach::capi::invalid;
+
+VeachSceneImpl::~VeachSceneImpl() { veachReleaseDevice(m_device); }
+
+namespace {
+
+void check_scene(VeachScene scene, const char* function) {
+    if (!scene) throw invalid(std::string(function) + ": null scene");
+}
+
+void check_not_loaded(VeachScene scene, const char* function) {
+    if (scene->m_loaded)
+        throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                       std::string(function) + ": the scene is loaded; set scene options before veachLoadScene*"};
+}
+
+void check_loaded(VeachScene scene, const char* function) {
+    if (!scene->m_loaded) throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": the scene is not loaded"};
+}
+
+enum class Kind { None, Int, Float, String };
+
+Kind kind_of(const std::string& n) {
+    static const char* const ints[] = {"scene_index", "allow_external_files", "triangles", "cameras",
+                                       "repaired_invalid_indices", "repaired_nonfinite_triangles",
+                                       "repaired_degenerate_triangles", "repaired_duplicate_triangles",
+                                       "repaired_normals_replaced", "repaired_normals_normalized",
+                                       "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"};
+    static const char* const floats[] = {"env_strength", "env_rotate"};
+    static const char* const strings[] = {"variant", "spot_falloff", "env_map", "env_color", "source", "features",
+                                          "warnings"};
+    for (const char* k : ints)
+        if (n == k) return Kind::Int;
+    for (const char* k : floats)
+        if (n == k) return Kind::Float;
+    for (const char* k : strings)
+        if (n == k) return Kind::String;
+    return Kind::None;
+}
+
+void check_kind(const char* name, Kind wanted) {
+    if (!name) throw invalid("null scene option name");
+    Kind k = kind_of(name);
+    if (k == wanted) return;
+    static constexpr const char* names[] = {"", "an int", "a float", "a string"};
+    if (k == Kind::None) throw invalid(std::string("unknown scene option '") + name + "'");
+    throw invalid(std::string("scene option '") + name + "' is " + names[static_cast<int>(k)] + ", not " +
+                  names[static_cast<int>(wanted)]);
+}
+
+bool is_result(const std::string& n) {
+    return n == "triangles" || n == "cameras" || n.rfind("repaired_", 0) == 0 || n == "source" || n == "features" ||
+           n == "warnings";
+}
+
+// "R,G,B" with three finite numbers >= 0.
+veach::Rgb parse_color(const std::string& v) {
+    float c[3];
+    const char* p = v.c_str();
+    for (int k = 0; k < 3; ++k) {
+        char* end = nullptr;
+        double x = std::strtod(p, &end);
+        if (end == p || !std::isfinite(x) || x < 0 || x > 1e30 || *end != (k < 2 ? ',' : '\0'))
+            throw invalid("scene option 'env_color' expects R,G,B with numbers >= 0 (e.g. 0.8,0.9,1), not '" + v + "'");
+        c[k] = static_cast<float>(x);
+        p = end + 1;
+    }
+    return veach::Rgb(c[0], c[1], c[2]);
+}
+
+const char* spot_name(veach::SpotProfile p) {
+    switch (p) {
+    case veach::SpotProfile::Blender: return "blender";
+    case veach::SpotProfile::Gltf: return "gltf";
+    default: return "auto";
+    }
+}
+
+// Every scene option as text, for the checkpoint hash.
+std::string options_key(const VeachSceneImpl& s) {
+    const veach::EnvironmentOptions& env = s.m_environment;
+    return "|scene=" + std::to_string(s.m_import.scene_index) + "|variant=" + s.m_import.variant +
+           "|spot=" + spot_name(s.m_import.spot_profile) + "|env=" + env.map_path + "|" +
+           std::to_string(env.has_color) + "|" + std::to_string(env.color.r) + "," + std::to_string(env.color.g) +
+           "," + std::to_string(env.color.b) + "|" + std::to_string(env.strength) + "|" +
+           std::to_string(env.rotate_degrees);
+}
+
+// What every front end does after importing, so that they all render the same image: the
+// requested environment, then a white world for a scene with no light at all (after the
+// environment: an explicit one wins), then a far-off scene moved to the origin (scene_repair.h).
+void finish_load(VeachSceneImpl* s, veach::Scene&& scene, uint64_t content_hash) {
+    try {
+        veach::apply_environment(s->m_environment, &scene);
+    } catch (const std::invalid_argument& e) {
+        throw ApiError{VEACH_ERROR_BAD_INPUT, e.what()};  // "FILE: fault": an unreadable map
+    }
+    veach::light_unlit_scene(scene);
+    veach::rebase_scene(scene);
+    s->m_scene = std::move(scene);
+    s->m_content_hash = veach::fnv1a_64(options_key(*s), content_hash);
+    s->m_loaded = true;
+}
+
+template <class Load>
+VeachError load(VeachScene scene, const char* function, Load&& body) {
+    check_scene(scene, function);
+    std::lock_guard<std::mutex> lock(scene->m_mutex);
+    check_not_loaded(scene, function);
+    body();
+    return VEACH_ERROR_NONE;
+}
+
+VeachError load_file(VeachScene scene, const char* path) {
+    return load(scene, "veachLoadSceneFile", [&] {
+        if (!path || !*path) throw invalid("veachLoadSceneFile: empty path");
+        veach::Scene imported = veach::import_scene(path, scene->m_import);
+        // The path and the file's bytes: a checkpoint resumes only the same content.
+        uint64_t h = veach::fnv1a_64(std::string(path));
+        std::ifstream f(path, std::ios::binary);
+        std::vector<char> buffer(1 << 16);
+        while (f) {
+            f.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+            h = veach::fnv1a_64(buffer.data(), static_cast<size_t>(f.gcount()), h);
+        }
+        scene->m_source = path;
+        finish_load(scene, std::move(imported), h);
+    });
+}
+
+VeachError load_memory(VeachScene scene, const void* data, size_t size, const char* format, const char* base_dir) {
+    return load(scene, "veachLoadSceneMemory", [&] {
+        if (!data || size == 0) throw invalid("veachLoadSceneMemory: empty buffer");
+        if (!format || !*format) throw invalid("veachLoadSceneMemory: no format");
+        const auto* bytes = static_cast<const uint8_t*>(data);
+        std::vector<uint8_t> copy(bytes, bytes + size);
+        std::string base = base_dir ? base_dir : "";
+        veach::Scene imported = veach::import_scene_from_memory(copy, format, base, scene->m_import);
+        uint64_t h = veach::fnv1a_64(copy.data(), copy.size(), veach::fnv1a_64(std::string(format) + "|" + base));
+        finish_load(scene, std::move(imported), h);
+    });
+}
+
+VeachScene new_scene(VeachDevice device) {
+    auto* s = new VeachSceneImpl();
+    veachRetainDevice(device);
+    s->m_device = device;
+    return s;
+}
+
+}  // namespace
+
+extern "C" {
+
+VEACH_API VeachScene veachNewScene(VeachDevice device) {
+    return guarded<VeachScene>(device, nullptr, [&] {
+        if (!device) throw invalid("veachNewScene: null device");
+        return new_scene(device);
+    });
+}
+
+VEACH_API VeachScene veachNewSceneFromFile(VeachDevice device, const char* path) {
+    return guarded<VeachScene>(device, nullptr, [&]() -> VeachScene {
+        if (!device) throw invalid("veachNewSceneFromFile: null device");
+        if (!path || !*path) throw invalid("veachNewSceneFromFile: empty path");
+        VeachScene s = new_scene(device);
+        try {
+            load_file(s, path);
+        } catch (...) {
+            veachReleaseScene(s);
+            throw;
+        }
+        return s;
+    });
+}
+
+VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* data, size_t size, const char* format,
+                                             const char* base_dir) {
+    return guarded<VeachScene>(device, nullptr, [&]() -> VeachScene {
+        if (!device) throw invalid("veachNewSceneFromMemory: null device");
+        if (!data || size == 0) throw invalid("veachNewSceneFromMemory: empty buffer");
+        if (!format || !*format) throw invalid("veachNewSceneFromMemory: no format");
+        VeachScene s = new_scene(device);
+        try {
+            load_memory(s, data, size, format, base_dir);
+        } catch (...) {
+            veachReleaseScene(s);
+            throw;
+        }
+        return s;
+    });
+}
+
+VEACH_API VeachError veachLoadSceneFile(VeachScene scene, const char* path) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_BAD_INPUT,
+                               [&] { return load_file(scene, path); });
+}
+
+VEACH_API VeachError veachLoadSceneMemory(VeachScene scene, const void* data, size_t size, const char* format,
+                                          const char* base_dir) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_BAD_INPUT,
+                               [&] { return load_memory(scene, data, size, format, base_dir); });
+}
+
+VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long long value) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_scene(scene, "veachSetSceneInt");
+        check_kind(name, Kind::Int);
+        std::string n = name;
+        if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
+        std::lock_guard<std::mutex> lock(scene->m_mutex);
+        check_not_loaded(scene, "veachSetSceneInt");
+        if (n == "scene_index") {
+            if (value < -1 || value > std::numeric_limits<int>::max())
+                throw invalid("scene option 'scene_index' must be -1 (the file's default) or a scene index");
+            scene->m_import.scene_index = static_cast<int>(value);
+        } else if (n == "allow_external_files") {
+            if (value != 0 && value != 1) throw invalid("scene option 'allow_external_files' must be 0 or 1");
+            scene->m_import.allow_external_files = value == 1;
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, double value) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_scene(scene, "veachSetSceneFloat");
+        check_kind(name, Kind::Float);
+        std::string n = name;
+        if (!std::isfinite(value)) throw invalid("scene option '" + n + "' must be finite");
+        std::lock_guard<std::mutex> lock(scene->m_mutex);
+        check_not_loaded(scene, "veachSetSceneFloat");
+        if (n == "env_strength") {
+            if (value < 0 || value > 1e30) throw invalid("scene option 'env_strength' must be in [0, 1e30]");
+            scene->m_environment.strength = static_cast<float>(value);
+        } else if (n == "env_rotate") {
+            if (std::abs(value) > 1e6) throw invalid("scene option 'env_rotate' must be in [-1e6, 1e6] degrees");
+            scene->m_environment.rotate_degrees = static_cast<float>(value);
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, const char* value) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_scene(scene, "veachSetSceneString");
+        check_kind(name, Kind::String);
+        std::string n = name, v = value ? value : "";
+        if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
+        std::lock_guard<std::mutex> lock(scene->m_mutex);
+        check_not_loaded(scene, "veachSetSceneString");
+        veach::EnvironmentOptions& env = scene->m_environment;
+        if (n == "variant") scene->m_import.variant = v;
+        else if (n == "spot_falloff") {
+            if (v == "auto") scene->m_import.spot_profile = veach::SpotProfile::Auto;
+            else if (v == "blender") scene->m_import.spot_profile = veach::SpotProfile::Blender;
+            else if (v == "gltf") scene->m_import.spot_profile = veach::SpotProfile::Gltf;
+            else throw invalid("scene option 'spot_falloff' expects auto, blender or gltf, not '" + v + "'");
+        } else if (n == "env_map") {
+            if (!v.empty() && env.has_color) throw invalid("scene options 'env_map' and 'env_color' exclude each other");
+            env.map_path = v;
+        } else if (n == "env_color") {
+            if (v.empty()) {
+                env.has_color = false;
+                env.color = veach::Rgb(1.0f);
+            } else {
+                if (!env.map_path.empty()) throw invalid("scene options 'env_map' and 'env_color' exclude each other");
+                env.color = parse_color(v);
+                env.has_color = true;
+            }
+            scene->m_env_color = v;
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long long* value) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_scene(scene, "veachGetSceneInt");
+        check_kind(name, Kind::Int);
+        if (!value) throw invalid("veachGetSceneInt: null value pointer");
+        std::string n = name;
+        std::lock_guard<std::mutex> lock(scene->m_mutex);
+        if (n == "scene_index") *value = scene->m_import.scene_index;
+        else if (n == "allow_external_files") *value = scene->m_import.allow_external_files ? 1 : 0;
+        else {
+            check_loaded(scene, "veachGetSceneInt");
+            const veach::Scene& s = scene->m_scene;
+            const veach::RepairCounts& r = s.repaired;
+            auto count = [](uint64_t c) { return static_cast<long long>(c); };
+            if (n == "triangles") *value = count(s.triangle_count());
+            else if (n == "cameras") *value = count(s.cameras.size());
+            else if (n == "repaired_invalid_indices") *value = count(r.invalid_indices);
+            else if (n == "repaired_nonfinite_triangles") *value = count(r.nonfinite_triangles);
+            else if (n == "repaired_degenerate_triangles") *value = count(r.degenerate_triangles);
+            else if (n == "repaired_duplicate_triangles") *value = count(r.duplicate_triangles);
+            else if (n == "repaired_normals_replaced") *value = count(r.normals_replaced);
+            else if (n == "repaired_normals_normalized") *value = count(r.normals_normalized);
+            else if (n == "repaired_uvs_replaced") *value = count(r.uvs_replaced);
+            else if (n == "repaired_colors_replaced") *value = count(r.colors_replaced);
+            else if (n == "repaired_lights_dropped") *value = count(r.lights_dropped);
+        }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, double* value) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_scene(scene, "veachGetSceneFloat");
+        check_kind(name, Kind::Float);
+        if (!value) throw invalid("veachGetSceneFloat: null value pointer");
+        std::string n = name;
+        std::lock_guard<std::mutex> lock(scene->m_mutex);
+        if (n == "env_strength") *value = scene->m_environment.strength;
+        else if (n == "env_rotate") *value = scene->m_environment.rotate_degrees;
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, char* buffer, size_t size,
+                                         size_t* length) {
+    return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
+        check_scene(scene, "veachGetSceneString");
+        check_kind(name, Kind::String);
+        if (!buffer && size > 0) throw invalid("veachGetSceneString: null buffer");
+        std::string n = name, value;
+        std::lock_guard<std::mutex> lock(scene->m_mutex);
+        if (n == "variant") value = scene->m_import.variant;
+        else if (n == "spot_falloff") value = spot_name(scene->m_import.spot_profile);
+        else if (n == "env_map") value = scene->m_environment.map_path;
+        else if (n == "env_color") value = scene->m_env_color;
+        else {
+            check_loaded(scene, "veachGetSceneString");
+            if (n == "source") value = scene->m_source;
+            else if (n == "features") {
+                for (const std::string& f : scene->m_scene.features.names()) value += (value.empty() ? "" : "\n") + f;
+            } else if (n == "warnings") {
+                for (const std::string& w : scene->m_scene.warnings) value += (value.empty() ? "" : "\n") + w;
+            }
+        }
+        veach::capi::copy_string(value, buffer, size, length);
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API void veachRetainScene(VeachScene scene) {
+    if (scene) scene->retain();
+}
+
+VEACH_API void veachReleaseScene(VeachScene scene) {
+    if (scene && scene->release()) delete scene;
+}
+
+VEACH_API int veachGetSceneCameraCount(VeachScene scene) {
+    return guarded<int>(nullptr, -1, [&] {
+        check_scene(scene, "veachGetSceneCameraCount");
+        return scene->m_loaded ? static_cast<int>(scene->m_scene.cameras.size()) : 0;
+    });
+}
+
+VEACH_API const char* veachGetSceneCameraName(VeachScene scene, int index) {
+    return guarded<const char*>(scene ? scene->m_device : nullptr, nullptr, [&]() -> const char* {
+        check_scene(scene, "veachGetSceneCameraName");
+        check_loaded(scene, "veachGetSceneCameraName");
+        if (index < 0 || static_cast<size_t>(index) >= scene->m_scene.cameras.size())
+            throw invalid("veachGetSceneCameraName: no camera " + std::to_string(index));
+        return scene->m_scene.cameras[static_cast<size_t>(index)].name.c_str();
+    });
+}
+
+}  // extern "C"
