@@ -626,9 +626,11 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
     }
     if (m_scene.material_of(mesh).is_emissive()) m_scene.features.emissive_meshes = true;
     if (!mesh.colors.empty()) m_scene.features.vertex_colors = true;
-    // Tangent frames only for normal-mapped materials: the file's TANGENT (xyz, handedness w),
-    // else generated from the normal texture's UV set.
-    if (const Material& mat = m_scene.material_of(mesh); mat.normal_texture.valid()) {
+    // Tangent frames only for normal-mapped materials (the base's or the clearcoat's normal
+    // texture): the file's TANGENT (xyz, handedness w), else generated from the normal texture's
+    // UV set (the base's when both are present: one tangent frame per vertex).
+    if (const Material& mat = m_scene.material_of(mesh);
+        mat.normal_texture.valid() || (mat.clearcoat > 0.0f && mat.clearcoat_normal_texture.valid())) {
         if (has("TANGENT")) {
             gltf::FloatAccessor a = read("TANGENT", gltf::AttributeFormat{4, 4, false, true, false});
             mesh.tangents.resize(n);
@@ -639,7 +641,8 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
                 mesh.tangent_signs[i] = v[3] < 0.0f ? -1.0f : 1.0f;
             }
         } else {
-            generate_tangents(&mesh, mat.normal_texture.texcoord);
+            generate_tangents(&mesh, mat.normal_texture.valid() ? mat.normal_texture.texcoord
+                                                                : mat.clearcoat_normal_texture.texcoord);
         }
     }
     return mesh;

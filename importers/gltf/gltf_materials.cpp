@@ -208,7 +208,7 @@ Material MaterialConverter::convert(int index) {
                                   &m.transmission_texture, &m.clearcoat_texture, &m.clearcoat_roughness_texture,
                                   &m.clearcoat_normal_texture, &m.sheen_color_texture, &m.sheen_roughness_texture})
         features.textures |= ref->valid();
-    features.normal_maps |= m.normal_texture.valid();
+    features.normal_maps |= m.normal_texture.valid() || (m.clearcoat > 0.0f && m.clearcoat_normal_texture.valid());
     features.alpha |= m.alpha_mode != AlphaMode::Opaque;
     features.transmission |= m.transmission > 0.0f || m.transmission_texture.valid();
     features.volume |= (m.transmission > 0.0f || m.transmission_texture.valid()) && m.attenuation_distance > 0.0f;

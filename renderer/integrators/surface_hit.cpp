@@ -15,10 +15,9 @@ constexpr float k_position_error_scale = 32.0f * 0x1p-24f;
 // (tangent, bitangent = cross(normal, tangent) w, normal). `ns` and `ng` are on the same side;
 // the vertex normal before that flip is recovered from them. The result is kept at least slightly
 // above the geometric surface on ng's side: a normal map must not turn a surface inside out.
-Vec3 apply_normal_map(const RenderScene& rs, const Material& mat, const Mesh& mesh, const Instance& inst,
+Vec3 apply_normal_map(const RenderScene& rs, const TextureRef& ref, float scale, const Mesh& mesh, const Instance& inst,
                       uint32_t instance, const uint32_t* idx, float b0, float b1, float b2,
                       const SurfaceAttributes& attr, const Vec3& ng, const Vec3& ns) {
-    const TextureRef& ref = mat.normal_texture;
     if (static_cast<size_t>(ref.texture) >= rs.scene().textures.size()) return ns;
     Vec3 t = mesh.tangents[idx[0]] * b0 + mesh.tangents[idx[1]] * b1 + mesh.tangents[idx[2]] * b2;
     float w = mesh.tangent_signs[idx[0]];
@@ -43,7 +42,7 @@ Vec3 apply_normal_map(const RenderScene& rs, const Material& mat, const Mesh& me
     Rgba texel = sample_texture(rs.scene().textures[static_cast<size_t>(ref.texture)],
                                 apply_uv_transform(ref.transform, attr.uv[set]),
                                 attr.uv_footprint[set] * uv_transform_length_scale(ref.transform));
-    float x = (2.0f * texel.r - 1.0f) * mat.normal_scale, y = (2.0f * texel.g - 1.0f) * mat.normal_scale;
+    float x = (2.0f * texel.r - 1.0f) * scale, y = (2.0f * texel.g - 1.0f) * scale;
     float z = 2.0f * texel.b - 1.0f;
     Vec3 m = t * x + b * y + n * z;
     float lm = length(m);
@@ -132,8 +131,22 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     }
     interpolate_uvs(mesh, idx, b0, b1, b2, &s.attr);
     if (footprint_width > 0.0f) set_uv_footprint(mesh, idx, p0, p1, p2, footprint_width, &s.attr);
-    if (s.material->normal_texture.valid() && mesh.tangents.size() == mesh.positions.size())
-        s.ns = apply_normal_map(rs, *s.material, mesh, inst, hit.instance, idx, b0, b1, b2, s.attr, s.ng, s.ns);
+    bool has_tangents = mesh.tangents.size() == mesh.positions.size();
+    const Material& mat = *s.material;
+    Vec3 ns_vertex = s.ns;
+    if (mat.normal_texture.valid() && has_tangents)
+        s.ns = apply_normal_map(rs, mat.normal_texture, mat.normal_scale, mesh, inst, hit.instance, idx, b0, b1, b2,
+                                s.attr, s.ng, s.ns);
+    // KHR_materials_clearcoat: the coat has its own normal map, and without one it is *not*
+    // normal-mapped like the base (the extension's wording): the vertex normal. Zero when the
+    // coat's normal is the base's, so the BSDF keeps its untilted path.
+    if (mat.clearcoat > 0.0f) {
+        if (mat.clearcoat_normal_texture.valid() && has_tangents)
+            s.ns_coat = apply_normal_map(rs, mat.clearcoat_normal_texture, mat.clearcoat_normal_scale, mesh, inst,
+                                         hit.instance, idx, b0, b1, b2, s.attr, s.ng, ns_vertex);
+        else if (mat.normal_texture.valid())
+            s.ns_coat = ns_vertex;
+    }
     if (!mesh.colors.empty()) {
         const Rgba& c0 = mesh.colors[idx[0]];
         const Rgba& c1 = mesh.colors[idx[1]];

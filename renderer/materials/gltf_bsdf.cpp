@@ -53,8 +53,20 @@ GltfBsdf::GltfBsdf(const ShadingInputs& in, float eta)
     }
 }
 
+void GltfBsdf::set_coat_normal(const Vec3& cn) {
+    if (m_coat <= 0.0f || m_lambert) return;
+    float l = length(cn);
+    if (!(l > 0.0f) || !std::isfinite(l)) return;
+    Vec3 n = cn / l;
+    // Below the base frame the coat would face into the surface; within float noise of +z it is
+    // the untilted coat, which keeps the mu-only cache and the shared mirror event.
+    if (!(n.z > 0.0f) || n.z >= 1.0f - 1e-6f) return;
+    m_coat_tilted = true;
+    m_coat_normal = n;
+}
+
 float GltfBsdf::coat_albedo(float mu) const {
-    if (m_coat <= 0.0f) return 0.0f;
+    if (m_coat <= 0.0f || !(mu > 0.0f)) return 0.0f;
     if (m_coat_delta) return m_coat * m_coat_lobe.fresnel(mu).r;
     return m_coat * m_coat_lobe.albedo(ggx_albedo(mu, m_coat_alpha)).r;
 }
@@ -63,22 +75,33 @@ float GltfBsdf::sheen_albedo_max(float mu) const {
     return m_sheen_max > 0.0f ? m_sheen_max * sheen_albedo(mu, m_sheen_roughness) : 0.0f;
 }
 
-float GltfBsdf::base_scale(const Outgoing& o, float mu_i) const {
+float GltfBsdf::base_scale(const Outgoing& o, float mu_i, float mu_i_coat) const {
     if (m_coat <= 0.0f && m_sheen_max <= 0.0f) return 1.0f;
-    float coat = std::min(1.0f - o.coat, 1.0f - coat_albedo(mu_i));
+    float coat = std::min(1.0f - o.coat, 1.0f - coat_albedo(mu_i_coat));
     float sheen = std::min(1.0f - o.sheen, 1.0f - sheen_albedo_max(mu_i));
     return std::max(0.0f, coat) * std::max(0.0f, sheen);
 }
 
-GltfBsdf::Outgoing GltfBsdf::outgoing(float mu_o) const {
+GltfBsdf::Outgoing GltfBsdf::outgoing(const Vec3& wo_up, bool flipped) const {
     Outgoing o;
+    float mu_o = wo_up.z;
+    o.w = wo_up;
+    o.flipped = flipped;
     o.mu = mu_o;
+    o.mu_c = mu_o;
+    if (m_coat_tilted) {
+        // Below the frame the coat is the mirror image of the one above: -cn, mirrored.
+        Vec3 cn = flipped ? Vec3(-m_coat_normal.x, -m_coat_normal.y, m_coat_normal.z) : m_coat_normal;
+        o.coat_frame = Frame(cn);
+        o.mu_c = dot(wo_up, cn);
+    }
     o.e = ggx_albedo(mu_o, m_alpha);
-    if (m_coat > 0.0f && !m_coat_delta) o.e_coat = ggx_albedo(mu_o, m_coat_alpha);
+    bool coat_on = m_coat > 0.0f && o.mu_c > 0.0f;
+    if (coat_on && !m_coat_delta) o.e_coat = ggx_albedo(o.mu_c, m_coat_alpha);
     o.diffuse_factor = diffuse_albedo_factor(o.e);
     // The coat's albedo from the lookup just made (coat_albedo() would repeat it).
-    o.coat = m_coat <= 0.0f ? 0.0f
-             : m_coat_delta ? m_coat * m_coat_lobe.fresnel(mu_o).r
+    o.coat = !coat_on       ? 0.0f
+             : m_coat_delta ? m_coat * m_coat_lobe.fresnel(o.mu_c).r
                             : m_coat * m_coat_lobe.albedo(o.e_coat).r;
     o.sheen = sheen_albedo_max(mu_o);
     o.p = probabilities(mu_o, o);
@@ -122,7 +145,7 @@ GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const Outgoing& 
     if (m_w_trans > 0.0f) p.trans = std::max(p.trans, k_min_lobe_probability);
     if (!spec_on) p.spec = 0.0f;
     if (!cos_on) p.cosine = 0.0f;
-    if (m_coat > 0.0f) p.coat = std::max(p.coat, k_min_lobe_probability);
+    if (m_coat > 0.0f && o.mu_c > 0.0f) p.coat = std::max(p.coat, k_min_lobe_probability);
     total = p.spec + p.cosine + p.trans + p.coat;
     p.spec /= total;
     p.cosine /= total;
@@ -135,12 +158,22 @@ GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const Outgoing& 
 Rgb GltfBsdf::eval_upper(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode, const Outgoing& o) const {
     Rgb f = eval_base(wo, wi, eta, mode, o);
     if (m_coat <= 0.0f && m_sheen_max <= 0.0f) return f;
-    f *= base_scale(o, std::fabs(wi.z));
+    float mu_i_coat = coat_cos(wi, o);
+    // The coat's cosine on wi's own side (0 when wi is beyond the coat's horizon there), so that
+    // base_scale treats wi exactly as it treats wo in the reverse query (reciprocity).
+    f *= base_scale(o, std::fabs(wi.z), std::max(0.0f, wi.z > 0.0f ? mu_i_coat : -mu_i_coat));
     if (wi.z > 0.0f) {
-        float coat_scale = std::min(1.0f - o.coat, 1.0f - coat_albedo(wi.z));
+        float coat_scale = std::min(1.0f - o.coat, 1.0f - coat_albedo(mu_i_coat));
         if (m_sheen_max > 0.0f) f += m_sheen_color * (sheen_eval(wo, wi, m_sheen_alpha) * coat_scale);
-        if (m_coat > 0.0f && !m_coat_delta)
-            f += m_coat_lobe.eval(wo, wi, o.e_coat, ggx_albedo(wi.z, m_coat_alpha)) * m_coat;
+        if (m_coat > 0.0f && !m_coat_delta && o.mu_c > 0.0f && mu_i_coat > 0.0f) {
+            if (!m_coat_tilted) {
+                f += m_coat_lobe.eval(wo, wi, o.e_coat, ggx_albedo(wi.z, m_coat_alpha)) * m_coat;
+            } else {
+                Vec3 wo_c = o.coat_frame.to_local(wo), wi_c = o.coat_frame.to_local(wi);
+                float tilt = coat_tilt_factor(wo, o.mu_c) * coat_tilt_factor(wi, mu_i_coat);
+                f += m_coat_lobe.eval(wo_c, wi_c, o.e_coat, ggx_albedo(wi_c.z, m_coat_alpha)) * (m_coat * tilt);
+            }
+        }
     }
     return f;
 }
@@ -172,8 +205,14 @@ float GltfBsdf::pdf_upper(const Vec3& wo, const Vec3& wi, float eta, const Outgo
         if (p.cosine > 0.0f) pdf += p.cosine * lambert_pdf_w(wo, wi);
     }
     if (p.trans > 0.0f && !m_delta) pdf += p.trans * dielectric_eval(wo, wi, m_alpha, eta, true).pdf_w;
-    if (p.coat > 0.0f && !m_coat_delta && wi.z > 0.0f)
-        pdf += p.coat * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_coat_alpha);
+    if (p.coat > 0.0f && !m_coat_delta && wi.z > 0.0f) {
+        if (!m_coat_tilted) {
+            pdf += p.coat * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_coat_alpha);
+        } else {
+            Vec3 wo_c = o.coat_frame.to_local(wo), wi_c = o.coat_frame.to_local(wi);
+            if (wi_c.z > 0.0f) pdf += p.coat * ggx_reflection_pdf_w(wo_c, normalize(wo_c + wi_c), m_coat_alpha);
+        }
+    }
     return pdf;
 }
 
@@ -183,20 +222,37 @@ void GltfBsdf::mirror_sample(const Vec3& wo, float eta, const Outgoing& o, BsdfS
     const LobeProbabilities& p = o.p;
     Rgb mass(0.0f);
     float prob = 0.0f;
-    if (m_coat > 0.0f && m_coat_delta) {
+    if (m_coat > 0.0f && m_coat_delta && !m_coat_tilted) {
         mass += m_coat_lobe.fresnel(wo.z) * m_coat;
         prob += p.coat;
     }
     if (m_delta) {
         float fr = m_w_trans > 0.0f ? fresnel_dielectric(wo.z, eta) : 0.0f;
         Rgb base = m_metal.fresnel(wo.z) * m_w_metal + m_specular.fresnel(wo.z) * m_w_opaque + Rgb(fr * m_w_trans);
-        mass += base * base_scale(o, wo.z);
+        Vec3 wi(-wo.x, -wo.y, wo.z);
+        mass += base * base_scale(o, wo.z, std::max(0.0f, coat_cos(wi, o)));
         prob += p.spec + p.trans * fr;
     }
     out->wi = Vec3(-wo.x, -wo.y, wo.z);
     out->weight = prob > 0.0f ? mass / prob : Rgb(0.0f);
     out->pdf_w = prob;
     out->delta = true;
+}
+
+// The weight of the mirror event is the coat's Fresnel mass times the tilt factors of the class
+// comment; for a delta, wi.cn = wo.cn = mu_c, and coat' |wi.z| / (wi.cn) leaves
+// min(1, mu_c / wo.z) min(1, wi.z / mu_c) <= 1.
+bool GltfBsdf::coat_mirror_sample(const Vec3& wo, const Outgoing& o, BsdfSample* out) const {
+    const LobeProbabilities& p = o.p;
+    if (!(o.mu_c > 0.0f) || !(p.coat > 0.0f)) return false;
+    Vec3 wi = reflect(wo, o.coat_frame.n);
+    if (!(wi.z > 0.0f)) return false;
+    float tilt = std::min(1.0f, o.mu_c / wo.z) * std::min(1.0f, wi.z / o.mu_c);
+    out->wi = wi;
+    out->weight = m_coat_lobe.fresnel(o.mu_c) * (m_coat * tilt / p.coat);
+    out->pdf_w = p.coat;
+    out->delta = true;
+    return true;
 }
 
 namespace {
@@ -206,16 +262,17 @@ bool same_side(const Vec3& wo, const Vec3& wi) { return (wo.z > 0.0f && wi.z > 0
 Rgb GltfBsdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     if (m_lambert) return same_side(wo, wi) ? m_diffuse_norm : Rgb(0.0f);
     Outgoing scratch;
-    if (wo.z > 0.0f) return eval_upper(wo, wi, m_eta, mode, outgoing_at(wo.z, &scratch));
-    if (wo.z < 0.0f) return eval_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, mode, outgoing_at(-wo.z, &scratch));
+    if (wo.z > 0.0f) return eval_upper(wo, wi, m_eta, mode, outgoing_at(wo, false, &scratch));
+    if (wo.z < 0.0f)
+        return eval_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, mode, outgoing_at(mirror_z(wo), true, &scratch));
     return Rgb(0.0f);
 }
 
 float GltfBsdf::pdf_w(const Vec3& wo, const Vec3& wi) const {
     if (m_lambert) return same_side(wo, wi) ? std::fabs(wi.z) * k_inv_pi : 0.0f;
     Outgoing scratch;
-    if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta, outgoing_at(wo.z, &scratch));
-    if (wo.z < 0.0f) return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, outgoing_at(-wo.z, &scratch));
+    if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta, outgoing_at(wo, false, &scratch));
+    if (wo.z < 0.0f) return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, outgoing_at(mirror_z(wo), true, &scratch));
     return 0.0f;
 }
 
@@ -236,15 +293,25 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
     Vec3 wo = flipped ? mirror_z(wo_in) : wo_in;
     float eta = flipped ? 1.0f / m_eta : m_eta;
     Outgoing scratch;
-    const Outgoing& o = outgoing_at(wo.z, &scratch);
+    const Outgoing& o = outgoing_at(wo, flipped, &scratch);
     const LobeProbabilities& p = o.p;
     Vec3 wi;
     float u = u_lobe;
     bool delta_done = false;
     if (u < p.coat) {
-        if (m_coat_delta) {
+        if (m_coat_tilted && m_coat_delta) {
+            if (!coat_mirror_sample(wo, o, out)) return false;
+            delta_done = true;
+        } else if (m_coat_delta) {
             mirror_sample(wo, eta, o, out);
             delta_done = true;
+        } else if (m_coat_tilted) {
+            Vec3 wo_c = o.coat_frame.to_local(wo);
+            if (!(wo_c.z > 0.0f)) return false;
+            Vec3 wi_c = reflect(wo_c, ggx_sample_visible_normal(wo_c, m_coat_alpha, u1, u2));
+            if (wi_c.z <= 0.0f) return false;
+            wi = o.coat_frame.to_world(wi_c);
+            if (wi.z <= 0.0f) return false;
         } else {
             wi = reflect(wo, ggx_sample_visible_normal(wo, m_coat_alpha, u1, u2));
             if (wi.z <= 0.0f) return false;
@@ -272,7 +339,7 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
                 if (!refract(wo, Vec3(0, 0, 1), eta, &wi)) return false;
                 float scale = mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
                 // f cos / pdf = w_trans (1 - F) base scale / (p_trans (1 - F)), dimmed by the layers.
-                out->weight = m_base * (m_w_trans * scale * base_scale(o, -wi.z) / p.trans);
+                out->weight = m_base * (m_w_trans * scale * base_scale(o, -wi.z, std::max(0.0f, -coat_cos(wi, o))) / p.trans);
                 out->pdf_w = p.trans * (1.0f - fr);
                 out->wi = wi;
                 out->delta = true;

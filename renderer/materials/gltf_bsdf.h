@@ -34,6 +34,20 @@
 // (reverse densities) are computed afresh, so results never depend on the cache. A material
 // with no specular, metal, transmission, coat or sheen (F0 = F90 = 0: Blender's Specular 0) is
 // exactly Lambert, and takes a path that skips the microfacet machinery altogether.
+//
+// The clearcoat's own normal (KHR_materials_clearcoat's clearcoatNormalTexture, or the
+// interpolated vertex normal when the base is normal-mapped and the coat is not: the extension
+// says the base's normal map does not apply to the coat) is a unit vector cn in this frame,
+// set_coat_normal(). The coat lobe is then the same GGX reflection evaluated in cn's frame, its
+// albedo and the layering's min() use cosines to cn, and the integrand, which the caller
+// multiplies by |wi.z| (the base's shading normal), is kept within the coat's own:
+//
+//   coat'(wo, wi) = coat_cn(wo, wi) min(1, (wo.cn) / wo.z) min(1, (wi.cn) / wi.z)
+//
+// Symmetric in wo and wi (reciprocal), and its albedo, the integral of coat' wi.z, is at most the
+// integral of coat_cn (wi.cn), the coat's albedo E_c(wo.cn): the layer conserves energy as an
+// untilted one does. It loses the little light the coat would send where wi.cn > wi.z; a tilted
+// coat's delta mirror (smooth coats) is its own event, reflected about cn.
 #pragma once
 
 #include "materials/gltf_material.h"
@@ -71,9 +85,12 @@ public:
 
     // Caches the terms that depend on wo only through mu_o = |wo.z| (call once per hit with the
     // direction the path arrived from; optional: without it every call computes them).
-    void set_outgoing(float mu_o) {
-        if (!m_lambert) m_out = outgoing(mu_o);
+    void set_outgoing(const Vec3& wo) {
+        if (!m_lambert && wo.z != 0.0f) m_out = outgoing(upper(wo), wo.z < 0.0f);
     }
+    // The coat's shading normal in this frame (unit, z > 0); ignored without a coat. Call before
+    // set_outgoing().
+    void set_coat_normal(const Vec3& cn);
 
     bool is_black() const { return m_black; }
     // Exactly Lambertian: base / pi on each side, cosine-sampled.
@@ -89,22 +106,35 @@ private:
     struct LobeProbabilities {
         float spec = 0, cosine = 0, trans = 0, coat = 0;
     };
-    // What depends on wo only through mu_o (wo mirrored above the frame).
+    // What depends on wo only through mu_o (wo mirrored above the frame), or through wo and the
+    // side with a tilted coat.
     struct Outgoing {
-        float mu = -1.0f;          // never equal to a real |wo.z|: nothing cached yet
+        Vec3 w{0.0f, 0.0f, -1.0f}; // wo mirrored above the frame; z < 0: nothing cached yet
+        bool flipped = false;      // wo was below the frame
+        float mu = -1.0f;          // w.z
+        float mu_c = -1.0f;        // w.cn: the coat's cosine
+        Frame coat_frame;          // the coat's frame in the (mirrored) frame: n = cn
         GgxAlbedo e;               // ggx_albedo(mu, alpha)
         GgxAlbedo e_coat;          // ggx_albedo(mu, coat alpha), rough coats only
         Rgb diffuse_factor{1.0f};  // 1 - E_spec(mu)
         float coat = 0, sheen = 0; // coat_albedo(mu), sheen_albedo_max(mu)
         LobeProbabilities p;
     };
-    Outgoing outgoing(float mu_o) const;
-    // The cached terms when mu_o is the cached direction's, else computed into *scratch.
-    const Outgoing& outgoing_at(float mu_o, Outgoing* scratch) const {
-        if (mu_o == m_out.mu) return m_out;
-        *scratch = outgoing(mu_o);
+    static Vec3 upper(const Vec3& w) { return {w.x, w.y, std::fabs(w.z)}; }
+    Outgoing outgoing(const Vec3& wo_up, bool flipped) const;
+    // The cached terms when wo is the cached direction, else computed into *scratch.
+    const Outgoing& outgoing_at(const Vec3& wo_up, bool flipped, Outgoing* scratch) const {
+        if (wo_up.z == m_out.mu && (!m_coat_tilted || (wo_up.x == m_out.w.x && wo_up.y == m_out.w.y && flipped == m_out.flipped))) return m_out;
+        *scratch = outgoing(wo_up, flipped);
         return *scratch;
     }
+    // The cosine of w to the coat's normal and its factor min(1, w.cn / w.z) (1 untilted).
+    float coat_cos(const Vec3& w, const Outgoing& o) const { return m_coat_tilted ? dot(w, o.coat_frame.n) : w.z; }
+    float coat_tilt_factor(const Vec3& w, float mu_c) const {
+        return m_coat_tilted ? (w.z != 0.0f ? std::min(1.0f, std::max(0.0f, mu_c) / std::fabs(w.z)) : 0.0f) : 1.0f;
+    }
+    // A tilted smooth coat's mirror about cn.
+    bool coat_mirror_sample(const Vec3& wo, const Outgoing& o, BsdfSample* out) const;
     // How often to sample each lobe: its albedo from wo (from the tables, no integration).
     LobeProbabilities probabilities(float mu_o, const Outgoing& o) const;
     Rgb eval_upper(const Vec3& wo, const Vec3& wi, float eta, TransportMode mode, const Outgoing& o) const;
@@ -115,7 +145,7 @@ private:
     float coat_albedo(float mu) const;                     // c E_c(mu)
     float sheen_albedo_max(float mu) const;                // max(sheenColor) E_sheen(mu)
     // The scaling of everything beneath the coat and the sheen for the pair (mu_o, mu_i).
-    float base_scale(const Outgoing& o, float mu_i) const;
+    float base_scale(const Outgoing& o, float mu_i, float mu_i_coat) const;
     // The smooth mirror direction, produced by every delta reflection lobe together.
     void mirror_sample(const Vec3& wo, float eta, const Outgoing& o, BsdfSample* out) const;
 
@@ -127,6 +157,8 @@ private:
     bool m_black = false, m_delta = false, m_lambert = false;
     float m_coat = 0, m_coat_alpha = 1;  // clearcoat factor and GGX alpha
     bool m_coat_delta = false;
+    bool m_coat_tilted = false;  // the coat has its own normal (set_coat_normal)
+    Vec3 m_coat_normal{0.0f, 0.0f, 1.0f};
     MicrofacetReflection m_coat_lobe;
     Rgb m_sheen_color;
     float m_sheen_max = 0, m_sheen_roughness = 0, m_sheen_alpha = 1;

@@ -22,7 +22,10 @@ public:
     SurfaceBsdf() : m_bsdf(ShadingInputs{}) {}
     // ng and ns as in SurfaceHit (same side); wo the direction back along the arriving ray.
     // Every face renders two-sided, as in Cycles: the normals are flipped toward wo.
-    SurfaceBsdf(const Vec3& ng, const Vec3& ns, const Vec3& wo, const ShadingInputs& in)
+    // ns_coat: the clearcoat's own shading normal (SurfaceHit::ns_coat, same side as ng), used
+    // only when the material has a coat and it differs from ns; zero means "ns".
+    SurfaceBsdf(const Vec3& ng, const Vec3& ns, const Vec3& wo, const ShadingInputs& in,
+                const Vec3& ns_coat = Vec3(0.0f, 0.0f, 0.0f))
         : m_bsdf(in, dot(wo, ng) < 0.0f ? 1.0f / in.ior : in.ior) {
         // ng comes from the winding, so wo on its side means arriving from outside a closed
         // transmissive mesh: the far side is the interior with relative index ior.
@@ -37,7 +40,9 @@ public:
         m_frame = Frame(n);
         // Integrators ask about this wo again and again (light sample, MIS density, sampling):
         // the BSDF computes what depends on it once.
-        m_bsdf.set_outgoing(std::fabs(m_frame.to_local(wo).z));
+        if (in.clearcoat > 0.0f && (ns_coat.x != 0.0f || ns_coat.y != 0.0f || ns_coat.z != 0.0f))
+            m_bsdf.set_coat_normal(m_frame.to_local(ns_coat * side));
+        m_bsdf.set_outgoing(m_frame.to_local(wo));
     }
 
     const Vec3& geometric_normal() const { return m_ng; }  // on wo's side

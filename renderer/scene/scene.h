@@ -75,7 +75,7 @@ struct Material {
     float clearcoat = 0, clearcoat_roughness = 0;
     TextureRef clearcoat_texture;           // factor in R
     TextureRef clearcoat_roughness_texture; // roughness in G
-    TextureRef clearcoat_normal_texture;    // stored for normal mapping (not applied by the BSDF)
+    TextureRef clearcoat_normal_texture;    // the coat's own normal map (surface_hit.cpp)
     float clearcoat_normal_scale = 1;
     // KHR_materials_sheen: Charlie sheen over the material.
     Rgb sheen_color{0, 0, 0};

@@ -59,6 +59,13 @@ TEST(GltfTextures, TangentsComeFromTheFileOrAreGeneratedForNormalMapsOnly) {
     ASSERT_EQ(g.tangent_signs.size(), g.positions.size());
     EXPECT_TRUE(generated.features.normal_maps);
 
+    // A clearcoat normal map needs the tangent frame too (surface_hit.cpp applies it to the coat).
+    Scene coat = load(material_scene({{"extensions",
+                                       {{"KHR_materials_clearcoat",
+                                         {{"clearcoatFactor", 1.0}, {"clearcoatNormalTexture", {{"index", 1}}}}}}}}));
+    EXPECT_EQ(coat.meshes.at(0).tangents.size(), coat.meshes.at(0).positions.size());
+    EXPECT_TRUE(coat.features.normal_maps);
+
     GltfBuilder b = material_scene({{"normalTexture", {{"index", 1}}}});
     int tangent = b.accessor(std::vector<float>{0, 1, 0, -1, 0, 1, 0, -1, 0, 1, 0, -1}, k_float, "VEC4");
     b.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = tangent;

@@ -171,15 +171,23 @@ class GltfSamplingChiSquare
     : public ::testing::TestWithParam<std::tuple<float, float, float, float, float>> {};
 
 // metallic, roughness, transmission, eta (relative index below), theta of wo (> pi/2: below).
-// Metallic 2 and 3 stand for a dielectric with a clearcoat (roughness 0.3) or a sheen.
-constexpr int k_chi_square_configurations = 12 + 12 + 2 + 4;
+// Metallic 2 and 3 stand for a dielectric with a clearcoat (roughness 0.3) or a sheen; 4 and 5
+// for a dielectric and a rough glass under a clearcoat with its own, tilted normal.
+constexpr int k_chi_square_configurations = 12 + 12 + 2 + 4 + 4;
+
+// A coat normal tilted by `angle` from the base's shading normal (local frame).
+Vec3 tilted_coat_normal(float angle) { return direction(angle, 2.0f); }
 
 TEST_P(GltfSamplingChiSquare, SampledDirectionsFollowPdf) {
     auto [metallic, roughness, transmission, eta, theta] = GetParam();
     ShadingInputs in = inputs(Rgb(0.6f, 0.5f, 0.4f), std::min(metallic, 1.0f), roughness, 1.0f, 1.5f, transmission);
     if (metallic == 2.0f) in = layered(inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness), 0.8f, 0.3f, Rgb(0.0f), 0.0f);
     if (metallic == 3.0f) in = layered(inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness), 0.0f, 0.0f, Rgb(0.8f), 0.5f);
+    if (metallic == 4.0f) in = layered(inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness), 0.8f, 0.3f, Rgb(0.0f), 0.0f);
+    if (metallic == 5.0f)
+        in = layered(inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness, 1.0f, 1.5f, 1.0f), 0.8f, 0.4f, Rgb(0.0f), 0.0f);
     GltfBsdf bsdf(in, eta);
+    if (metallic >= 4.0f) bsdf.set_coat_normal(tilted_coat_normal(0.5f));
     Vec3 wo = direction(theta, 0.7f);
     auto res = test::chi_square_directions(
         [&](Rng& rng, Vec3* d) {
@@ -207,6 +215,12 @@ INSTANTIATE_TEST_SUITE_P(Transmission, GltfSamplingChiSquare,
 INSTANTIATE_TEST_SUITE_P(Layers, GltfSamplingChiSquare,
                          ::testing::Combine(::testing::Values(2.0f, 3.0f), ::testing::Values(0.6f), ::testing::Values(0.0f),
                                             ::testing::Values(1.5f), ::testing::Values(0.4f, 1.2f)));
+INSTANTIATE_TEST_SUITE_P(TiltedCoat, GltfSamplingChiSquare,
+                         ::testing::Combine(::testing::Values(4.0f), ::testing::Values(0.6f), ::testing::Values(0.0f),
+                                            ::testing::Values(1.5f), ::testing::Values(0.4f, 1.2f)));
+INSTANTIATE_TEST_SUITE_P(TiltedCoatGlass, GltfSamplingChiSquare,
+                         ::testing::Combine(::testing::Values(5.0f), ::testing::Values(0.5f), ::testing::Values(1.0f),
+                                            ::testing::Values(1.5f), ::testing::Values(0.7f, 2.5f)));
 INSTANTIATE_TEST_SUITE_P(Mixed, GltfSamplingChiSquare,
                          ::testing::Combine(::testing::Values(0.3f), ::testing::Values(0.4f), ::testing::Values(0.5f),
                                             ::testing::Values(1.33f), ::testing::Values(0.5f, 2.5f)));
@@ -273,7 +287,7 @@ TEST(GltfMaterial, OutgoingCacheChangesNoAnswer) {
                         Vec3 wo = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f) * side;
                         Vec3 other = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f);
                         Vec3 wi = direction(rng.next_float() * 3.1f, rng.next_float() * 6.28f);
-                        cached.set_outgoing(std::fabs(wo.z));
+                        cached.set_outgoing(wo);
                         for (const Vec3& w : {wo, other}) {
                             Rgb a = plain.eval(w, wi), b = cached.eval(w, wi);
                             EXPECT_EQ(a.r, b.r);
@@ -361,6 +375,67 @@ TEST(GltfMaterial, SmoothRefractionFollowsSnell) {
         EXPECT_NEAR(bs.weight.r, 1.0f / (eta * eta), 1e-5f);  // (1 - F) / (1 - F) / eta^2
     }
     EXPECT_GT(refracted, 1700);
+}
+
+// KHR_materials_clearcoat's clearcoatNormalTexture: the coat is a GGX layer about its own normal
+// cn. A smooth coat mirrors wo about cn (not about the base's normal); a tilted coat of any
+// roughness over any base stays reciprocal and never reflects more than it receives; the per-hit
+// cache changes no answer with a tilt (it then depends on wo, not only on |wo.z|).
+TEST(GltfMaterial, TiltedClearcoatNormal) {
+    {
+        GltfBsdf smooth(layered(inputs(Rgb(0.5f), 0.0f, 0.6f), 1.0f, 0.0f, Rgb(0.0f), 0.0f));
+        Vec3 cn = tilted_coat_normal(0.3f);
+        smooth.set_coat_normal(cn);
+        Vec3 wo = direction(0.5f, 0.4f);
+        BsdfSample bs;
+        ASSERT_TRUE(smooth.sample(wo, 0.0f, 0.5f, 0.5f, &bs));  // u_lobe 0: the coat's event
+        EXPECT_TRUE(bs.delta);
+        Vec3 expected = cn * (2.0f * dot(wo, cn)) - wo;
+        EXPECT_NEAR(bs.wi.x, expected.x, 1e-5f);
+        EXPECT_NEAR(bs.wi.y, expected.y, 1e-5f);
+        EXPECT_NEAR(bs.wi.z, expected.z, 1e-5f);
+        EXPECT_GT(std::fabs(bs.wi.x + wo.x) + std::fabs(bs.wi.y + wo.y), 0.1f);  // not the base's mirror
+    }
+    Rng rng(7, 7);
+    for (float tilt : {0.3f, 0.8f})
+        for (float cc_roughness : {0.0f, 0.3f, 1.0f})
+            for (int base = 0; base < 3; ++base) {
+                ShadingInputs in = base == 0   ? inputs(Rgb(1.0f), 0.0f, 0.5f)
+                                   : base == 1 ? inputs(Rgb(1.0f), 1.0f, 0.3f)
+                                               : inputs(Rgb(1.0f), 0.0f, 0.5f, 1.0f, 1.5f, 1.0f);
+                in = layered(in, 1.0f, cc_roughness, Rgb(0.0f), 0.0f);
+                GltfBsdf bsdf(in, 1.5f), cached(in, 1.5f);
+                bsdf.set_coat_normal(tilted_coat_normal(tilt));
+                cached.set_coat_normal(tilted_coat_normal(tilt));
+                for (float theta : {0.2f, 0.9f, 1.4f, 2.0f}) {
+                    if (theta > 1.6f && base != 2) continue;  // below: only glass is seen from there
+                    float se = 0;
+                    Rgb a = albedo(bsdf, direction(theta, 1.0f), 20000, TransportMode::Radiance, &se);
+                    EXPECT_LE(a.max(), 1.0f + 4 * se + 0.005f)
+                        << "tilt " << tilt << " cc " << cc_roughness << " base " << base << " theta " << theta;
+                }
+                for (int i = 0; i < 200; ++i) {
+                    float side = i % 3 == 0 && base == 2 ? -1.0f : 1.0f;
+                    Vec3 a = direction(rng.next_float() * 1.55f, rng.next_float() * 6.28f) * side;
+                    Vec3 b = direction(rng.next_float() * 1.55f, rng.next_float() * 6.28f);
+                    if (base != 2) {
+                        Rgb fab = bsdf.eval(a, b), fba = bsdf.eval(b, a);
+                        EXPECT_NEAR(fab.g, fba.g, 1e-5f * std::max(1.0f, fab.g)) << "tilt " << tilt << " base " << base;
+                    }
+                    cached.set_outgoing(a);
+                    for (const Vec3& w : {a, b}) {
+                        EXPECT_EQ(bsdf.eval(w, b).g, cached.eval(w, b).g);
+                        EXPECT_EQ(bsdf.pdf_w(w, a), cached.pdf_w(w, a));
+                        float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+                        BsdfSample sa, sb;
+                        bool oka = bsdf.sample(w, u0, u1, u2, &sa), okb = cached.sample(w, u0, u1, u2, &sb);
+                        ASSERT_EQ(oka, okb);
+                        if (oka) {
+                            EXPECT_EQ(sa.weight.g, sb.weight.g);
+                        }
+                    }
+                }
+            }
 }
 
 }  // namespace

@@ -99,5 +99,45 @@ TEST(NormalMap, NeverBelowTheGeometricSurface) {
     EXPECT_GT(n.x, 0.99f);  // bent up, keeping its azimuth
 }
 
+// KHR_materials_clearcoat: clearcoatNormalTexture tilts the coat's normal (SurfaceHit::ns_coat)
+// and leaves the base's; a base normal map does not apply to the coat, whose normal is then the
+// vertex normal. Texture 0 encodes a tilt of a toward +X, texture 1 toward +Y.
+TEST(NormalMap, ClearcoatHasItsOwnNormal) {
+    const float a = 0.5f;
+    auto hit_with = [&](bool base_map, bool coat_map) {
+        Scene s;
+        s.meshes.push_back(uv_quad());
+        generate_tangents(&s.meshes[0], 0);
+        Material m = test::lambert(Rgb(0.5f));
+        m.clearcoat = 1.0f;
+        if (base_map) m.normal_texture.texture = 0;
+        if (coat_map) m.clearcoat_normal_texture.texture = 1;
+        s.materials.push_back(m);
+        for (int i = 0; i < 2; ++i) {
+            Texture t;
+            t.width = t.height = 1;
+            float tilt = (std::sin(a) + 1) / 2;
+            t.texels = {i == 0 ? tilt : 0.5f, i == 1 ? tilt : 0.5f, (std::cos(a) + 1) / 2, 1};
+            s.textures.push_back(t);
+        }
+        s.instances.push_back({0, Transform()});
+        s.cameras.push_back(test::camera_at(Vec3(0, 0, 2)));
+        RenderScene rs(s, &s.cameras[0], 8, 8);
+        RayHit rh;
+        EXPECT_TRUE(rs.accel().intersect(Vec3(0.1f, 0.2f, 2), Vec3(0, 0, -1), k_infinity, &rh));
+        return make_surface_hit(rs, rh);
+    };
+    SurfaceHit both = hit_with(true, true);
+    EXPECT_NEAR(both.ns.x, std::sin(a), 1e-4f);
+    EXPECT_NEAR(both.ns_coat.y, std::sin(a), 1e-4f);
+    EXPECT_NEAR(both.ns_coat.x, 0.0f, 1e-5f);
+    SurfaceHit coat_only = hit_with(false, true);
+    EXPECT_NEAR(coat_only.ns.z, 1.0f, 1e-6f);
+    EXPECT_NEAR(coat_only.ns_coat.y, std::sin(a), 1e-4f);
+    SurfaceHit base_only = hit_with(true, false);
+    EXPECT_NEAR(base_only.ns.x, std::sin(a), 1e-4f);
+    EXPECT_NEAR(base_only.ns_coat.z, 1.0f, 1e-6f);  // the vertex normal, not the base's map
+}
+
 }  // namespace
 }  // namespace veach

@@ -103,7 +103,7 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
     v->prim = hit.prim;
     v->light = rs.lights().emitter_of(hit.instance, hit.prim);
     ShadingInputs in = evaluate_material(*hit.material, rs.scene(), hit.attr);
-    v->bsdf = SurfaceBsdf(hit.ng, hit.ns, -dir, in);
+    v->bsdf = SurfaceBsdf(hit.ng, hit.ns, -dir, in, hit.ns_coat);
 }
 
 // roulette_scale: 1 / the throughput the subpath started with, so that Russian roulette follows
