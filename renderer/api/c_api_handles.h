@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <vector>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -99,6 +100,36 @@ struct ApiError {
 };
 
 inline ApiError invalid(const std::string& message) { return ApiError{VEACH_ERROR_INVALID_ARGUMENT, message}; }
+
+// Each option's type is fixed by its name; asking with another type is an error that names the
+// right one, so a host binding gets a useful message. An object kind (render, scene) lists its
+// names by type once; `what` names them in messages ("option", "scene option").
+enum class OptionKind { None, Int, Float, String };
+
+struct OptionTable {
+    const char* what;
+    std::vector<const char*> ints, floats, strings;
+
+    OptionKind kind_of(const std::string& name) const {
+        for (const char* k : ints)
+            if (name == k) return OptionKind::Int;
+        for (const char* k : floats)
+            if (name == k) return OptionKind::Float;
+        for (const char* k : strings)
+            if (name == k) return OptionKind::String;
+        return OptionKind::None;
+    }
+    // Throws an INVALID_ARGUMENT ApiError unless `name` is an option of type `wanted`.
+    void check(const char* name, OptionKind wanted) const {
+        if (!name) throw invalid(std::string("null ") + what + " name");
+        OptionKind k = kind_of(name);
+        if (k == wanted) return;
+        static constexpr const char* names[] = {"", "an int", "a float", "a string"};
+        if (k == OptionKind::None) throw invalid(std::string("unknown ") + what + " '" + name + "'");
+        throw invalid(std::string(what) + " '" + name + "' is " + names[static_cast<int>(k)] + ", not " +
+                      names[static_cast<int>(wanted)]);
+    }
+};
 
 // Copies `value` into a caller's buffer as veach.h describes (truncated, NUL-terminated, full
 // length reported).

@@ -19,6 +19,8 @@
 using veach::capi::ApiError;
 using veach::capi::guarded;
 using veach::capi::invalid;
+using veach::capi::OptionKind;
+using veach::capi::OptionTable;
 
 VeachRenderImpl::~VeachRenderImpl() {
     m_cancel = true;
@@ -109,39 +111,20 @@ int to_int(const std::string& name, long long value, long long lo, long long hi)
 
 constexpr long long k_int_max = std::numeric_limits<int>::max();
 
-// Each option's type is fixed by its name; asking with another type is an error that names the
-// right one, so a host binding gets a useful message.
-enum class Kind { None, Int, Float, String };
+// The options' names by type (OptionTable, c_api_handles.h).
+const OptionTable k_options{
+    "option",
+    {"width", "height", "spp", "seed", "max_depth", "threads", "bits", "quality", "half", "aovs",
+     "bdpt_s", "bdpt_t", "resume", "result_width", "result_height", "result_spp",
+     "result_resumed_spp", "result_complete", "result_camera_samples", "result_rays",
+     "result_nonfinite_samples"},
+    {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress",
+     "eta_seconds", "render_seconds", "build_seconds"},
+    {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes",
+     "checkpoint", "result_camera", "result_integrator", "result_warnings"}
+};
 
-Kind kind_of(const std::string& n) {
-    static const char* const ints[] = {"width", "height", "spp", "seed", "max_depth", "threads", "bits", "quality",
-                                       "half", "aovs", "bdpt_s", "bdpt_t", "resume", "result_width",
-                                       "result_height", "result_spp", "result_resumed_spp", "result_complete",
-                                       "result_camera_samples", "result_rays", "result_nonfinite_samples"};
-    static const char* const floats[] = {"time_limit", "exposure", "gamma", "filter_width", "noise",
-                                         "checkpoint_interval", "progress", "eta_seconds", "render_seconds",
-                                         "build_seconds"};
-    static const char* const strings[] = {"integrator", "camera", "filter", "sampler", "display", "view", "look",
-                                          "exr_codec", "passes", "checkpoint", "result_camera", "result_integrator",
-                                          "result_warnings"};
-    for (const char* k : ints)
-        if (n == k) return Kind::Int;
-    for (const char* k : floats)
-        if (n == k) return Kind::Float;
-    for (const char* k : strings)
-        if (n == k) return Kind::String;
-    return Kind::None;
-}
-
-void check_kind(const char* name, Kind wanted) {
-    if (!name) throw invalid("null option name");
-    Kind k = kind_of(name);
-    if (k == wanted) return;
-    static constexpr const char* names[] = {"", "an int", "a float", "a string"};
-    if (k == Kind::None) throw invalid(std::string("unknown option '") + name + "'");
-    throw invalid(std::string("option '") + name + "' is " + names[static_cast<int>(k)] + ", not " +
-                  names[static_cast<int>(wanted)]);
-}
+void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
 bool is_result(const std::string& n) {
     return n.rfind("result_", 0) == 0 || n == "progress" || n == "eta_seconds" || n == "render_seconds" ||
@@ -197,7 +180,7 @@ VEACH_API void veachReleaseRender(VeachRender render) {
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachSetInt");
-        check_kind(name, Kind::Int);
+        check_kind(name, OptionKind::Int);
         check_not_running(render, "veachSetInt");
         std::string n = name;
         if (is_result(n)) throw invalid("option '" + n + "' is read-only");
@@ -227,7 +210,7 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
 VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachSetFloat");
-        check_kind(name, Kind::Float);
+        check_kind(name, OptionKind::Float);
         check_not_running(render, "veachSetFloat");
         std::string n = name;
         if (!std::isfinite(value)) throw invalid("option '" + n + "' must be finite");
@@ -260,7 +243,7 @@ VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double 
 VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachSetString");
-        check_kind(name, Kind::String);
+        check_kind(name, OptionKind::String);
         check_not_running(render, "veachSetString");
         std::string n = name, v = value ? value : "";
         std::lock_guard<std::mutex> lock(render->m_mutex);
@@ -300,7 +283,7 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
 VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long* value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetInt");
-        check_kind(name, Kind::Int);
+        check_kind(name, OptionKind::Int);
         if (!value) throw invalid("veachGetInt: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(render->m_mutex);
@@ -334,7 +317,7 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
 VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double* value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetFloat");
-        check_kind(name, Kind::Float);
+        check_kind(name, OptionKind::Float);
         if (!value) throw invalid("veachGetFloat: null value pointer");
         std::string n = name;
         if (n == "progress") *value = render->m_progress.load();
@@ -358,7 +341,7 @@ VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double*
 VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* buffer, size_t size, size_t* length) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetString");
-        check_kind(name, Kind::String);
+        check_kind(name, OptionKind::String);
         if (!buffer && size > 0) throw invalid("veachGetString: null buffer");
         std::string n = name, value;
         std::lock_guard<std::mutex> lock(render->m_mutex);

@@ -19,6 +19,8 @@
 using veach::capi::ApiError;
 using veach::capi::guarded;
 using veach::capi::invalid;
+using veach::capi::OptionKind;
+using veach::capi::OptionTable;
 
 VeachSceneImpl::~VeachSceneImpl() { veachReleaseDevice(m_device); }
 
@@ -38,35 +40,18 @@ void check_loaded(VeachScene scene, const char* function) {
     if (!scene->m_loaded) throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": the scene is not loaded"};
 }
 
-enum class Kind { None, Int, Float, String };
+// The options' names by type (OptionTable, c_api_handles.h).
+const OptionTable k_options{
+    "scene option",
+    {"scene_index", "allow_external_files", "triangles", "cameras", "repaired_invalid_indices",
+     "repaired_nonfinite_triangles", "repaired_degenerate_triangles",
+     "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
+     "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
+    {"env_strength", "env_rotate"},
+    {"variant", "spot_falloff", "env_map", "env_color", "source", "features", "warnings"}
+};
 
-Kind kind_of(const std::string& n) {
-    static const char* const ints[] = {"scene_index", "allow_external_files", "triangles", "cameras",
-                                       "repaired_invalid_indices", "repaired_nonfinite_triangles",
-                                       "repaired_degenerate_triangles", "repaired_duplicate_triangles",
-                                       "repaired_normals_replaced", "repaired_normals_normalized",
-                                       "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"};
-    static const char* const floats[] = {"env_strength", "env_rotate"};
-    static const char* const strings[] = {"variant", "spot_falloff", "env_map", "env_color", "source", "features",
-                                          "warnings"};
-    for (const char* k : ints)
-        if (n == k) return Kind::Int;
-    for (const char* k : floats)
-        if (n == k) return Kind::Float;
-    for (const char* k : strings)
-        if (n == k) return Kind::String;
-    return Kind::None;
-}
-
-void check_kind(const char* name, Kind wanted) {
-    if (!name) throw invalid("null scene option name");
-    Kind k = kind_of(name);
-    if (k == wanted) return;
-    static constexpr const char* names[] = {"", "an int", "a float", "a string"};
-    if (k == Kind::None) throw invalid(std::string("unknown scene option '") + name + "'");
-    throw invalid(std::string("scene option '") + name + "' is " + names[static_cast<int>(k)] + ", not " +
-                  names[static_cast<int>(wanted)]);
-}
+void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
 bool is_result(const std::string& n) {
     return n == "triangles" || n == "cameras" || n.rfind("repaired_", 0) == 0 || n == "source" || n == "features" ||
@@ -225,7 +210,7 @@ VEACH_API VeachError veachLoadSceneMemory(VeachScene scene, const void* data, si
 VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long long value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachSetSceneInt");
-        check_kind(name, Kind::Int);
+        check_kind(name, OptionKind::Int);
         std::string n = name;
         if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
@@ -245,7 +230,7 @@ VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long l
 VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, double value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachSetSceneFloat");
-        check_kind(name, Kind::Float);
+        check_kind(name, OptionKind::Float);
         std::string n = name;
         if (!std::isfinite(value)) throw invalid("scene option '" + n + "' must be finite");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
@@ -264,7 +249,7 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
 VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, const char* value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachSetSceneString");
-        check_kind(name, Kind::String);
+        check_kind(name, OptionKind::String);
         std::string n = name, v = value ? value : "";
         if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
@@ -297,7 +282,7 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
 VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long long* value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachGetSceneInt");
-        check_kind(name, Kind::Int);
+        check_kind(name, OptionKind::Int);
         if (!value) throw invalid("veachGetSceneInt: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
@@ -327,7 +312,7 @@ VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long l
 VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, double* value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachGetSceneFloat");
-        check_kind(name, Kind::Float);
+        check_kind(name, OptionKind::Float);
         if (!value) throw invalid("veachGetSceneFloat: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
@@ -341,7 +326,7 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
                                          size_t* length) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachGetSceneString");
-        check_kind(name, Kind::String);
+        check_kind(name, OptionKind::String);
         if (!buffer && size > 0) throw invalid("veachGetSceneString: null buffer");
         std::string n = name, value;
         std::lock_guard<std::mutex> lock(scene->m_mutex);

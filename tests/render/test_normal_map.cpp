@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "integrators/surface_hit.h"
 #include "scene/mesh_tangents.h"
@@ -24,8 +25,8 @@ Mesh uv_quad() {
     return m;
 }
 
-// The shading normal at the quad's centre with a 1x1 normal texture of `texel`.
-Vec3 shading_normal(float r, float g, float b, float scale = 1.0f, float tangent_sign = 0.0f) {
+// The surface hit at the quad's centre, seen from above, with material `m` and its textures.
+SurfaceHit quad_hit(const Material& m, const std::vector<Texture>& textures, float tangent_sign = 0.0f) {
     Scene s;
     s.meshes.push_back(uv_quad());
     if (tangent_sign != 0.0f) {  // as a file's TANGENT attribute
@@ -34,20 +35,29 @@ Vec3 shading_normal(float r, float g, float b, float scale = 1.0f, float tangent
     } else {
         generate_tangents(&s.meshes[0], 0);
     }
-    Material m = test::lambert(Rgb(0.5f));
-    m.normal_texture.texture = 0;
-    m.normal_scale = scale;
     s.materials.push_back(m);
-    Texture t;
-    t.width = t.height = 1;
-    t.texels = {r, g, b, 1};
-    s.textures.push_back(t);
+    s.textures = textures;
     s.instances.push_back({0, Transform()});
     s.cameras.push_back(test::camera_at(Vec3(0, 0, 2)));
     RenderScene rs(s, &s.cameras[0], 8, 8);
     RayHit rh;
     EXPECT_TRUE(rs.accel().intersect(Vec3(0.1f, 0.2f, 2), Vec3(0, 0, -1), k_infinity, &rh));
-    return make_surface_hit(rs, rh).ns;
+    return make_surface_hit(rs, rh);
+}
+
+Texture texel(float r, float g, float b) {
+    Texture t;
+    t.width = t.height = 1;
+    t.texels = {r, g, b, 1};
+    return t;
+}
+
+// The shading normal at the quad's centre with a 1x1 normal texture of `texel`.
+Vec3 shading_normal(float r, float g, float b, float scale = 1.0f, float tangent_sign = 0.0f) {
+    Material m = test::lambert(Rgb(0.5f));
+    m.normal_texture.texture = 0;
+    m.normal_scale = scale;
+    return quad_hit(m, {texel(r, g, b)}, tangent_sign).ns;
 }
 
 TEST(NormalMap, GeneratedTangentsFollowTheUvs) {
@@ -104,28 +114,13 @@ TEST(NormalMap, NeverBelowTheGeometricSurface) {
 // vertex normal. Texture 0 encodes a tilt of a toward +X, texture 1 toward +Y.
 TEST(NormalMap, ClearcoatHasItsOwnNormal) {
     const float a = 0.5f;
+    const float t = (std::sin(a) + 1) / 2, z = (std::cos(a) + 1) / 2;
     auto hit_with = [&](bool base_map, bool coat_map) {
-        Scene s;
-        s.meshes.push_back(uv_quad());
-        generate_tangents(&s.meshes[0], 0);
         Material m = test::lambert(Rgb(0.5f));
         m.clearcoat = 1.0f;
         if (base_map) m.normal_texture.texture = 0;
         if (coat_map) m.clearcoat_normal_texture.texture = 1;
-        s.materials.push_back(m);
-        for (int i = 0; i < 2; ++i) {
-            Texture t;
-            t.width = t.height = 1;
-            float tilt = (std::sin(a) + 1) / 2;
-            t.texels = {i == 0 ? tilt : 0.5f, i == 1 ? tilt : 0.5f, (std::cos(a) + 1) / 2, 1};
-            s.textures.push_back(t);
-        }
-        s.instances.push_back({0, Transform()});
-        s.cameras.push_back(test::camera_at(Vec3(0, 0, 2)));
-        RenderScene rs(s, &s.cameras[0], 8, 8);
-        RayHit rh;
-        EXPECT_TRUE(rs.accel().intersect(Vec3(0.1f, 0.2f, 2), Vec3(0, 0, -1), k_infinity, &rh));
-        return make_surface_hit(rs, rh);
+        return quad_hit(m, {texel(t, 0.5f, z), texel(0.5f, t, z)});
     };
     SurfaceHit both = hit_with(true, true);
     EXPECT_NEAR(both.ns.x, std::sin(a), 1e-4f);
