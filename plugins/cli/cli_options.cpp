@@ -139,17 +139,35 @@ private:
     VeachRender m_render = nullptr;
 };
 
-std::string device_list(VeachDevice device, const char* name, const char* separator) {
+// A string the library returns through a caller's buffer.
+template <class Getter>
+std::string get_string(Getter&& get) {
     size_t length = 0;
-    veachGetDeviceString(device, name, nullptr, 0, &length);
+    if (get(nullptr, 0, &length) != VEACH_ERROR_NONE) return {};
     std::string s(length + 1, '\0');
-    veachGetDeviceString(device, name, s.data(), s.size(), &length);
-    s.resize(length);
+    get(s.data(), s.size(), &length);
+    s.resize(std::min(length, s.size() - 1));
+    return s;
+}
+
+// A device list (one name a line) joined with `separator`.
+std::string device_list(VeachDevice device, const char* name, const char* separator) {
+    std::string s = device_string(device, name);
     for (size_t pos; (pos = s.find('\n')) != std::string::npos;) s.replace(pos, 1, separator);
     return s;
 }
 
 }  // namespace
+
+std::string device_string(VeachDevice d, const char* name) {
+    return get_string([&](char* b, size_t n, size_t* l) { return veachGetDeviceString(d, name, b, n, l); });
+}
+std::string scene_string(VeachScene s, const char* name) {
+    return get_string([&](char* b, size_t n, size_t* l) { return veachGetSceneString(s, name, b, n, l); });
+}
+std::string render_string(VeachRender r, const char* name) {
+    return get_string([&](char* b, size_t n, size_t* l) { return veachGetString(r, name, b, n, l); });
+}
 
 VeachError apply_scene_option(VeachScene scene, const ApiOption& o) {
     switch (o.type) {

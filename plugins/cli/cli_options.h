@@ -37,6 +37,11 @@ struct RenderCommand {
     bool resume = false;              // --resume: continue from the checkpoint when there is one
 };
 
+// String queries through the C API's caller-buffer convention ("" when the query fails).
+std::string device_string(VeachDevice device, const char* name);
+std::string scene_string(VeachScene scene, const char* name);
+std::string render_string(VeachRender render, const char* name);
+
 // Sets one option through the C API; returns its VeachError.
 VeachError apply_scene_option(VeachScene scene, const ApiOption& option);
 VeachError apply_render_option(VeachRender render, const ApiOption& option);

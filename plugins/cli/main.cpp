@@ -61,26 +61,6 @@ const char* signal_name(int sig) {
     }
 }
 
-// A string the library returns through a caller's buffer.
-template <class Getter>
-std::string get_string(Getter&& get) {
-    size_t length = 0;
-    if (get(nullptr, 0, &length) != VEACH_ERROR_NONE) return {};
-    std::string s(length + 1, '\0');
-    get(s.data(), s.size(), &length);
-    s.resize(std::min(length, s.size() - 1));
-    return s;
-}
-
-std::string device_string(VeachDevice d, const char* name) {
-    return get_string([&](char* b, size_t n, size_t* l) { return veachGetDeviceString(d, name, b, n, l); });
-}
-std::string scene_string(VeachScene s, const char* name) {
-    return get_string([&](char* b, size_t n, size_t* l) { return veachGetSceneString(s, name, b, n, l); });
-}
-std::string render_string(VeachRender r, const char* name) {
-    return get_string([&](char* b, size_t n, size_t* l) { return veachGetString(r, name, b, n, l); });
-}
 long long scene_int(VeachScene s, const char* name) {
     long long v = 0;
     veachGetSceneInt(s, name, &v);

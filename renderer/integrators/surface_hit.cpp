@@ -1,7 +1,5 @@
 #include "integrators/surface_hit.h"
 
-#include "materials/texture_sampling.h"
-
 namespace veach {
 
 namespace {
@@ -38,10 +36,7 @@ Vec3 apply_normal_map(const RenderScene& rs, const TextureRef& ref, float scale,
     if (!(lt > 0.0f) || !std::isfinite(lt)) return ns;
     t = t / lt;
     Vec3 b = cross(n, t) * w;
-    int set = ref.texcoord == 1 ? 1 : 0;
-    Rgba texel = sample_texture(rs.scene().textures[static_cast<size_t>(ref.texture)],
-                                apply_uv_transform(ref.transform, attr.uv[set]),
-                                attr.uv_footprint[set] * uv_transform_length_scale(ref.transform));
+    Rgba texel = lookup_texture(ref, rs.scene(), attr);
     float x = (2.0f * texel.r - 1.0f) * scale, y = (2.0f * texel.g - 1.0f) * scale;
     float z = 2.0f * texel.b - 1.0f;
     Vec3 m = t * x + b * y + n * z;

@@ -83,8 +83,9 @@ public:
     bool sample(const Vec3& wo, float u_lobe, float u1, float u2, BsdfSample* out,
                 TransportMode mode = TransportMode::Radiance) const;
 
-    // Caches the terms that depend on wo only through mu_o = |wo.z| (call once per hit with the
-    // direction the path arrived from; optional: without it every call computes them).
+    // Caches the terms that depend on wo (only through mu_o = |wo.z| unless the coat is tilted):
+    // call once per hit with the direction the path arrived from; optional, without it every
+    // call computes them.
     void set_outgoing(const Vec3& wo) {
         if (!m_lambert && wo.z != 0.0f) m_out = outgoing(upper(wo), wo.z < 0.0f);
     }
@@ -124,7 +125,9 @@ private:
     Outgoing outgoing(const Vec3& wo_up, bool flipped) const;
     // The cached terms when wo is the cached direction, else computed into *scratch.
     const Outgoing& outgoing_at(const Vec3& wo_up, bool flipped, Outgoing* scratch) const {
-        if (wo_up.z == m_out.mu && (!m_coat_tilted || (wo_up.x == m_out.w.x && wo_up.y == m_out.w.y && flipped == m_out.flipped))) return m_out;
+        bool same = wo_up.z == m_out.mu &&
+                    (!m_coat_tilted || (wo_up.x == m_out.w.x && wo_up.y == m_out.w.y && flipped == m_out.flipped));
+        if (same) return m_out;
         *scratch = outgoing(wo_up, flipped);
         return *scratch;
     }

@@ -48,6 +48,10 @@ inline void interpolate_uvs(const Mesh& mesh, const uint32_t* idx, float b0, flo
     }
 }
 
+// One texture of a material at a surface point: the TextureRef's UV set, KHR_texture_transform
+// and the ray's footprint in that set (mip level). `ref` must name a texture of `scene`.
+Rgba lookup_texture(const TextureRef& ref, const Scene& scene, const SurfaceAttributes& attr);
+
 // Looks up the material's textures and combines them with its factors.
 ShadingInputs evaluate_material(const Material& m, const Scene& scene, const SurfaceAttributes& attr);
 // Only the emitted radiance (cheaper, for light sampling).

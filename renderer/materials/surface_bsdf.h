@@ -19,7 +19,9 @@ namespace veach {
 
 class SurfaceBsdf {
 public:
-    SurfaceBsdf() : m_bsdf(ShadingInputs{}) {}
+    // Black, and exactly Lambertian so that it builds nothing (a microfacet default would build
+    // lobes, and the first one the Kulla-Conty tables, for every unfilled path-vertex slot).
+    SurfaceBsdf() : m_bsdf(black_inputs()) {}
     // ng and ns as in SurfaceHit (same side); wo the direction back along the arriving ray.
     // Every face renders two-sided, as in Cycles: the normals are flipped toward wo.
     // ns_coat: the clearcoat's own shading normal (SurfaceHit::ns_coat, same side as ng), used
@@ -51,6 +53,15 @@ public:
     bool has_transmission() const { return m_bsdf.has_transmission(); }
     // True when wo arrived on the front (winding) side: a transmission enters the mesh.
     bool entering() const { return m_entering; }
+    // KHR_materials_volume: the absorption of the medium a segment leaving this surface toward w
+    // travels in. On wo's side it is the medium the path arrived through (`arrived`); across a
+    // transmissive surface it is the interior of `material`'s mesh when entering and air when
+    // leaving (closed, non-nested meshes). The interior's absorption (logarithms) is computed
+    // only for a crossing.
+    Rgb medium_toward(const Vec3& w, const Rgb& arrived, const Material& material) const {
+        if (!has_transmission() || dot(w, m_ng) >= 0.0f) return arrived;
+        return m_entering ? material.absorption() : Rgb(0.0f);
+    }
 
     // f(wo, wi) |wi.ns| (times the adjoint correction in importance mode).
     Rgb eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
@@ -82,6 +93,13 @@ public:
     bool is_pure_delta() const { return m_bsdf.is_pure_delta(); }
 
 private:
+    static ShadingInputs black_inputs() {
+        ShadingInputs in;
+        in.base_color = Rgb(0.0f);
+        in.dielectric_f0 = Rgb(0.0f);
+        in.dielectric_f90 = 0.0f;
+        return in;
+    }
     float importance_correction(const Vec3& wo, const Vec3& wi, float wo_ns, float wi_ns) const {
         float num = std::fabs(wo_ns) * std::fabs(dot(wi, m_ng));
         float den = std::fabs(dot(wo, m_ng)) * std::fabs(wi_ns);

@@ -38,9 +38,8 @@ float to_area_density(float pdf_w, const PathVertex& from, const PathVertex& to)
 // takes its medium from the camera-side end (the path tracer's light-sample rule); in a closed
 // scene the light-side end agrees, since the edge is unoccluded.
 Rgb medium_toward(const PathVertex& v, const Vec3& w) {
-    if (v.kind != PathVertex::Kind::Surface || !v.bsdf.has_transmission()) return v.sigma_in;
-    if (dot(w, v.bsdf.geometric_normal()) > 0.0f) return v.sigma_in;  // back to the arrival side
-    return v.bsdf.entering() ? v.material->absorption() : Rgb(0.0f);
+    if (v.kind != PathVertex::Kind::Surface) return v.sigma_in;
+    return v.bsdf.medium_toward(w, v.sigma_in, *v.material);
 }
 
 // Everything a thread needs for one tile: subpath storage allocated once, not per path.

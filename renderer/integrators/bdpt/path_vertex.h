@@ -11,17 +11,6 @@
 namespace veach {
 
 struct PathVertex {
-    // What a vertex's BSDF holds until a hit fills it: black Lambert, which builds nothing (a
-    // default SurfaceBsdf builds microfacet lobes, and the first one computes the Kulla-Conty
-    // tables, 0.08 s, even in scenes where every material is Lambertian).
-    static ShadingInputs placeholder_inputs() {
-        ShadingInputs in;
-        in.base_color = Rgb(0.0f);
-        in.dielectric_f0 = Rgb(0.0f);
-        in.dielectric_f90 = 0.0f;
-        return in;
-    }
-
     enum class Kind : uint8_t { Camera, Light, Surface };
 
     Kind kind = Kind::Surface;
@@ -38,7 +27,7 @@ struct PathVertex {
     Rgb sigma_in;
     float pdf_fwd = 0, pdf_rev = 0;
     // Surfaces:
-    SurfaceBsdf bsdf{Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1), placeholder_inputs()};
+    SurfaceBsdf bsdf;  // black until a hit fills it (builds nothing)
     const Material* material = nullptr;
     SurfaceAttributes attr;
     uint32_t instance = 0, prim = 0;

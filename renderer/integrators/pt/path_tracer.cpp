@@ -78,13 +78,9 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
                 ++stats.rays;
                 if (!rs.accel().occluded(o, ls.wi, t_max)) {
                     float w = ls.is_delta ? 1.0f : power_heuristic(ls.pdf_w, bsdf.pdf_w(wo, ls.wi));
-                    // The shadow segment travels in the medium on its side of this surface: the
-                    // path's own when it leaves on the side the path arrived from, else the one
-                    // across the surface (a light sample through the wall of a glass block
-                    // leaves the block at once).
-                    Rgb sigma_ls = sigma_a;
-                    if (dot(ls.wi, hit.ng) * dot(wo, hit.ng) < 0.0f)
-                        sigma_ls = bsdf.entering() ? hit.material->absorption() : Rgb(0.0f);
+                    // The shadow segment travels in the medium on its side of this surface (a
+                    // light sample through the wall of a glass block leaves the block at once).
+                    Rgb sigma_ls = bsdf.medium_toward(ls.wi, sigma_a, *hit.material);
                     Rgb tr = beer_lambert(sigma_ls, ls.is_infinite ? 0.0f : length(ls.point - hit.p));
                     radiance += beta * tr * f * ls.radiance * (w / ls.pdf_w);
                 }
@@ -98,10 +94,8 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
         if (!bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, TransportMode::Radiance, &bs))
             break;
         beta *= bs.weight;
-        // Crossing a transmissive surface changes the medium: entering takes the material's
-        // absorption, leaving returns to air (closed, non-nested meshes).
-        if (dot(bs.wi, hit.ng) * dot(wo, hit.ng) < 0.0f)
-            sigma_a = bsdf.entering() ? hit.material->absorption() : Rgb(0.0f);
+        // Crossing a transmissive surface changes the medium.
+        sigma_a = bsdf.medium_toward(bs.wi, sigma_a, *hit.material);
         if (bounce + 1 >= k_roulette_start) {
             float q = std::min(1.0f, beta.max());
             if (rng.next_float() >= q) break;
