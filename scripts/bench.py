@@ -2,13 +2,13 @@
 """bench.py --build DIR [--budgets 2,4,8] [--scenes a,b] [--no-cycles] [--markdown docs/BENCHMARKS.md]
 
 Time against error, measured side by side in one run on this machine:
-  - for every scene in ../shared/scenes, `veach render --time T` with pt and bdpt at each budget:
-    relMSE against the Cycles reference (../shared/tools/compare.py), efficiency
+  - for every scene in tests/data/scenes, `veach render --time T` with pt and bdpt at each budget:
+    relMSE against the Cycles reference (tests/tools/image_compare.py), efficiency
     1/(relMSE x seconds), samples/s and rays/s;
   - the ray-tracing limit: incoherent closest-hit rays/s that Embree alone traces through the same
     BVH on all threads (veach_ray_bench), and the renderer's rays/s as a fraction of it;
-  - Cycles at equal render time when Blender is installed (the settings of
-    ../shared/tools/blender_make.py with a render time limit), and our efficiency over Cycles';
+  - Cycles at equal render time when Blender is installed (the reference settings of
+    scripts/blender/cycles_setup.py with a render time limit), and our efficiency over Cycles';
   - 2 threads against 1 thread (samples/s, pt, cornell).
 Writes the tables into the markdown file between the BENCH markers and log-log plots of relMSE
 against time next to it (docs/bench/NAME.png, with gnuplot). Ratios are the headline numbers:
@@ -16,9 +16,10 @@ absolute seconds depend on the machine and its load."""
 import argparse, json, math, os, shutil, subprocess, sys, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHARED = os.path.join(os.path.dirname(ROOT), "shared")
-sys.path.insert(0, os.path.join(SHARED, "tools"))
-import compare  # noqa: E402
+SCENES = os.path.join(ROOT, "tests", "data", "scenes")
+BLENDER_SCRIPTS = os.path.join(ROOT, "scripts", "blender")
+sys.path.insert(0, os.path.join(ROOT, "tests", "tools"))
+import image_compare as compare  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -35,35 +36,12 @@ tmp = tempfile.mkdtemp(prefix="veach-bench-")
 
 CYCLES_SCRIPT = r'''
 import bpy, sys, os, time
-sys.path.insert(0, os.environ["VEACH_SHARED_TOOLS"])
-import blender_scenes as scenes
-out, seconds = os.environ["VEACH_OUT"], float(os.environ["VEACH_SECONDS"])
-scenes.lambertize()
-sc = bpy.context.scene
-c = sc.cycles
-sc.render.engine = 'CYCLES'
-c.device = 'CPU'
-c.samples = 1 << 24
-c.time_limit = seconds
-c.use_adaptive_sampling = False
-c.use_denoising = False
-c.seed = 1
-for k in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "transparent_max_bounces"):
-    setattr(c, k, 64)
-c.min_light_bounces = 0
-c.sample_clamp_direct = 0.0
-c.sample_clamp_indirect = 0.0
-c.blur_glossy = 0.0
-c.caustics_reflective = True
-c.caustics_refractive = True
-c.light_sampling_threshold = 0.0
-c.pixel_filter_type = 'BOX'
-c.filter_width = 1.0
-sc.render.threads_mode = 'AUTO'
-sc.view_settings.view_transform = 'Standard'
-sc.render.image_settings.file_format = 'OPEN_EXR'
-sc.render.image_settings.color_depth = '32'
-sc.render.filepath = out
+sys.path.insert(0, os.environ["VEACH_BLENDER_SCRIPTS"])
+import cycles_setup
+cycles_setup.lambert_materials()
+scene = bpy.context.scene
+cycles_setup.unbiased_cycles(scene, samples=1 << 24, seed=1, time_limit=float(os.environ["VEACH_SECONDS"]))
+scene.render.filepath = os.environ["VEACH_OUT"]
 t = time.time()
 bpy.ops.render.render(write_still=True)
 print("VEACH_CYCLES_SECONDS", time.time() - t)
@@ -79,15 +57,15 @@ def relmse(path, ref):
 
 
 def render_veach(scene, integrator, seconds, threads=0, spp=1 << 24, sampler="sobol"):
-    meta = json.load(open(os.path.join(SHARED, "scenes", scene, scene + ".cycles.json")))
+    meta = json.load(open(os.path.join(SCENES, scene, scene + ".cycles.json")))
     out = os.path.join(tmp, "%s_%s_%g.exr" % (scene, integrator, seconds))
     stats = out + ".json"
-    run([veach, "render", os.path.join(SHARED, "scenes", scene, scene + ".gltf"), "-o", out, "--width",
+    run([veach, "render", os.path.join(SCENES, scene, scene + ".gltf"), "-o", out, "--width",
          str(meta["width"]), "--height", str(meta["height"]), "--spp", str(spp), "--time", str(seconds),
          "--integrator", integrator, "--threads", str(threads), "--sampler", sampler, "--quiet",
          "--stats-json", stats])
     s = json.load(open(stats))
-    ref = os.path.join(SHARED, "scenes", scene, scene + ".cycles.exr")
+    ref = os.path.join(SCENES, scene, scene + ".cycles.exr")
     e = relmse(out, ref)
     t = s["seconds"]["render"]
     return {"seconds": t, "relmse": e, "efficiency": 1.0 / (e * t), "spp": s["spp"],
@@ -96,19 +74,19 @@ def render_veach(scene, integrator, seconds, threads=0, spp=1 << 24, sampler="so
 
 def render_cycles(scene, seconds):
     out = os.path.join(tmp, "%s_cycles_%g.exr" % (scene, seconds))
-    env = dict(os.environ, VEACH_SHARED_TOOLS=os.path.join(SHARED, "tools"), VEACH_OUT=out,
+    env = dict(os.environ, VEACH_BLENDER_SCRIPTS=BLENDER_SCRIPTS, VEACH_OUT=out,
                VEACH_SECONDS=str(seconds))
     script = os.path.join(tmp, "cycles_bench.py")
     open(script, "w").write(CYCLES_SCRIPT)
-    p = run(["blender", "-b", os.path.join(SHARED, "scenes", scene, scene + ".blend"), "--factory-startup",
+    p = run(["blender", "-b", os.path.join(SCENES, scene, scene + ".blend"), "--factory-startup",
              "-P", script], env=env)
     t = float([l for l in p.stdout.splitlines() if l.startswith("VEACH_CYCLES_SECONDS")][0].split()[1])
-    e = relmse(out, os.path.join(SHARED, "scenes", scene, scene + ".cycles.exr"))
+    e = relmse(out, os.path.join(SCENES, scene, scene + ".cycles.exr"))
     return {"seconds": t, "relmse": e, "efficiency": 1.0 / (e * t)}
 
 
 def ray_limit(scene):
-    p = run([ray_bench, os.path.join(SHARED, "scenes", scene, scene + ".gltf"), "--seconds", "2"])
+    p = run([ray_bench, os.path.join(SCENES, scene, scene + ".gltf"), "--seconds", "2"])
     return json.loads(p.stdout)["rays_per_second"]
 
 
@@ -145,8 +123,8 @@ def unused_textures_scene():
     import OpenImageIO as oiio
     d = os.path.join(tmp, "unused")
     os.makedirs(d, exist_ok=True)
-    g = json.load(open(os.path.join(SHARED, "scenes", "cornell", "cornell.gltf")))
-    shutil.copy(os.path.join(SHARED, "scenes", "cornell", "cornell.bin"), d)
+    g = json.load(open(os.path.join(SCENES, "cornell", "cornell.gltf")))
+    shutil.copy(os.path.join(SCENES, "cornell", "cornell.bin"), d)
     ramp = np.tile(np.linspace(0, 1, 4096, dtype=np.float32), (4096, 1))
     px = np.stack([ramp, ramp.T, 0.5 * np.ones_like(ramp)], axis=-1)
     g.setdefault("images", [])
@@ -176,7 +154,7 @@ def load_and_render(path):
     return best
 
 
-plain = load_and_render(os.path.join(SHARED, "scenes", "cornell", "cornell.gltf"))
+plain = load_and_render(os.path.join(SCENES, "cornell", "cornell.gltf"))
 unused = load_and_render(unused_textures_scene())
 
 lines = []

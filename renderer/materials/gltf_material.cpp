@@ -59,7 +59,7 @@ ShadingInputs evaluate_material(const Material& m, const Scene& scene, const Sur
     // index-matched interface, whose exact Fresnel reflectance is 0 at every angle; we let F90
     // follow F0 below water's 0.02 (F90 = min(1, 50 F0), the rule of Filament and Frostbite,
     // Lagarde & de Rousiers 2014), which changes no real dielectric (ior >= 1.33) and makes F0 = 0
-    // exactly Lambert. Measured on ../shared/scenes/cornell (256x256, 128 spp, PT) against
+    // exactly Lambert. Measured on the cornell scene (256x256, 128 spp, PT) against
     // Cycles' exact Lambert: spec F90 (energy-compensated) means +0.28/+0.31/+0.34%, worst
     // 16x16 block 5.6%; F90 following F0: means +0.03/+0.04/+0.00%, worst block 3.8%.
     s.dielectric_f90 = specular * std::min(1.0f, 50.0f * f0.max());

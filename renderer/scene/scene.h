@@ -19,7 +19,7 @@ enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 // A decoded texture, RGBA. Colour textures (srgb = true) keep their sRGB-encoded values and are
 // decoded to linear after filtering: Cycles filters 8-bit sRGB images in the encoded space, and
 // filtering in linear space instead makes every edge of a magnified texture visibly brighter
-// than Blender's render (5-30% on ../shared/scenes/textured). At texel centres both agree exactly.
+// than Blender's render (5-30% on the textured scene). At texel centres both agree exactly.
 struct Texture {
     std::string name;
     int width = 0, height = 0;

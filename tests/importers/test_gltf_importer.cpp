@@ -721,12 +721,12 @@ TEST(GltfImporterErrors, BadReferences) {
 // --------------------------------------------------------------------------------------------
 // Blender's exports of the reference scenes
 
-std::string shared_scene(const std::string& name) {
-    return std::string(VEACH_SHARED_DIR) + "/scenes/" + name + "/" + name + ".gltf";
+std::string public_scene(const std::string& name) {
+    return std::string(VEACH_SCENES_DIR) + "/" + name + "/" + name + ".gltf";
 }
 
 TEST(GltfImporterBlender, Cornell) {
-    Scene s = import_scene(shared_scene("cornell"));
+    Scene s = import_scene(public_scene("cornell"));
     EXPECT_EQ(s.instances.size(), 8u);
     EXPECT_EQ(s.meshes.size(), 8u);
     ASSERT_EQ(s.cameras.size(), 1u);
@@ -750,7 +750,7 @@ TEST(GltfImporterBlender, Cornell) {
 }
 
 TEST(GltfImporterBlender, LightsMatchBlenderWatts) {
-    Scene s = import_scene(shared_scene("lights"));
+    Scene s = import_scene(public_scene("lights"));
     ASSERT_EQ(s.lights.size(), 3u);
     const float four_pi = 4 * k_pi;
     const PunctualLight& point = s.lights[0];
@@ -777,7 +777,7 @@ TEST(GltfImporterBlender, LightsMatchBlenderWatts) {
 }
 
 TEST(GltfImporterBlender, TexturedCheckerKeepsImageRowOrder) {
-    Scene s = import_scene(shared_scene("textured"));
+    Scene s = import_scene(public_scene("textured"));
     EXPECT_TRUE(s.features.textures);
     ASSERT_EQ(s.textures.size(), 1u);
     const Texture& t = s.textures[0];
@@ -812,10 +812,10 @@ TEST(GltfImporterBlender, TexturedCheckerKeepsImageRowOrder) {
 
 TEST(GltfImporterBlender, ConcurrentImportsAgree) {
     // No global state: imports on several threads give the same scene as one on its own.
-    Scene alone = import_scene(shared_scene("textured"));
+    Scene alone = import_scene(public_scene("textured"));
     std::vector<Scene> results(4);
     std::vector<std::thread> threads;
-    for (Scene& r : results) threads.emplace_back([&r] { r = import_scene(shared_scene("textured")); });
+    for (Scene& r : results) threads.emplace_back([&r] { r = import_scene(public_scene("textured")); });
     for (std::thread& t : threads) t.join();
     for (const Scene& r : results) {
         ASSERT_EQ(r.textures.size(), 1u);
@@ -825,13 +825,13 @@ TEST(GltfImporterBlender, ConcurrentImportsAgree) {
 }
 
 TEST(GltfImporterBlender, SpheresAndCorridorLoad) {
-    Scene spheres = import_scene(shared_scene("spheres"));
+    Scene spheres = import_scene(public_scene("spheres"));
     EXPECT_EQ(spheres.instances.size(), 5u);
     EXPECT_EQ(spheres.cameras.size(), 1u);
     EXPECT_TRUE(spheres.features.emissive_meshes);
     EXPECT_GT(spheres.triangle_count(), 1000u);
     EXPECT_TRUE(spheres.warnings.empty());
-    Scene corridor = import_scene(shared_scene("corridor"));
+    Scene corridor = import_scene(public_scene("corridor"));
     EXPECT_EQ(corridor.instances.size(), 12u);
     EXPECT_EQ(corridor.cameras.size(), 1u);
     EXPECT_TRUE(corridor.features.emissive_meshes);

@@ -1,15 +1,15 @@
 #!/usr/bin/python3
-"""check_reference.py --veach BIN --scene NAME [--spp N] [--integrator I] [--mean-tol T] [--block-tol T]
+"""check_reference.py --veach BIN --scenes DIR --scene NAME [--spp N] [--integrator I] [--mean-tol T] [--block-tol T]
 
-Renders ../shared/scenes/NAME/NAME.gltf at the reference's resolution and compares it with the
-Cycles reference using ../shared/tools/compare.py's measures: every channel's mean within
---mean-tol (relative), every lit 16x16 block mean within --block-tol, no non-finite value.
-Exit 0 pass, 1 fail, 77 skip (no shared/ folder beside the project)."""
+Renders SCENES/NAME/NAME.gltf (tests/data/scenes) at the reference's resolution and compares it
+with the Cycles reference beside it in tests/tools/image_compare.py's measures: every channel's
+mean within --mean-tol (relative), every lit 16x16 block mean within --block-tol, no non-finite
+value. Exit 0 pass, 1 fail."""
 import argparse, json, os, subprocess, sys, tempfile
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--veach", required=True)
-ap.add_argument("--shared", required=True)
+ap.add_argument("--scenes", required=True, help="the folder of scene folders (tests/data/scenes)")
 ap.add_argument("--scene", required=True)
 ap.add_argument("--spp", type=int, default=256)
 ap.add_argument("--integrator", default="pt")
@@ -25,12 +25,9 @@ a.mean_tol *= divisor ** 0.5
 # not shrink like sqrt(spp): the sanitizer run checks the means and finiteness only.
 check_blocks = divisor == 1
 
-scene_dir = os.path.join(a.shared, "scenes", a.scene)
-if not os.path.isdir(scene_dir):
-    print("SKIP: no shared scenes at %s" % scene_dir)
-    sys.exit(77)
-sys.path.insert(0, os.path.join(a.shared, "tools"))
-import compare  # noqa: E402  (../shared/tools/compare.py)
+scene_dir = os.path.join(a.scenes, a.scene)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+import image_compare as compare  # noqa: E402  (tests/tools/image_compare.py)
 
 meta = json.load(open(os.path.join(scene_dir, a.scene + ".cycles.json")))
 with tempfile.TemporaryDirectory() as tmp:

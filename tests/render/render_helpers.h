@@ -66,7 +66,7 @@ inline std::vector<double> block_means(const Image& img, int block) {
 
 namespace veach::test {
 
-// How far image `x` is from image `r`, in the measures of ../shared/tools/compare.py: the
+// How far image `x` is from image `r`, in the measures of tests/tools/image_compare.py: the
 // per-channel mean ratio, and the worst relative difference of block means among blocks brighter
 // than 5% of the mean block.
 struct ImageComparison {

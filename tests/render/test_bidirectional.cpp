@@ -17,8 +17,8 @@ namespace {
 
 Scene cornell() { return import_scene(std::string(VEACH_EXAMPLES_DIR) + "/cornell/cornell.gltf"); }
 
-std::string shared_scene(const std::string& name) {
-    return std::string(VEACH_SHARED_DIR) + "/scenes/" + name + "/" + name + ".gltf";
+std::string public_scene(const std::string& name) {
+    return std::string(VEACH_SCENES_DIR) + "/" + name + "/" + name + ".gltf";
 }
 
 void expect_agree(const Image& x, const Image& ref, int block, double mean_tol, double block_tol, const std::string& what) {
@@ -31,8 +31,8 @@ void expect_agree(const Image& x, const Image& ref, int block, double mean_tol, 
 class IntegratorsAgree : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(IntegratorsAgree, OnPublicScene) {
-    std::string path = shared_scene(GetParam());
-    if (!std::ifstream(path).good()) GTEST_SKIP() << "no " << path;
+    std::string path = public_scene(GetParam());
+    ASSERT_TRUE(std::ifstream(path).good()) << "no " << path;
     Scene s = import_scene(path);
     // Light tracing's block noise depends on the light paths landing per block (256 pixels x
     // spp), not on the image size: a small image with many samples per pixel is the cheap way to
@@ -66,8 +66,8 @@ INSTANTIATE_TEST_SUITE_P(Scenes, IntegratorsAgree, ::testing::Values("cornell", 
 // held to the 1% / 3% on the blocks that do not show the glass sphere (the right half of
 // the upper two block rows, which also holds its reflections).
 TEST(IntegratorsAgreeOnCaustics, SpheresBdptAndLtAgreeWithPt) {
-    std::string path = shared_scene("spheres");
-    if (!std::ifstream(path).good()) GTEST_SKIP() << "no " << path;
+    std::string path = public_scene("spheres");
+    ASSERT_TRUE(std::ifstream(path).good()) << "no " << path;
     // Caustic fireflies do not shrink like sqrt(spp): at a fraction of the samples (sanitizer
     // builds) the comparison says nothing; reference_spheres_pt runs the same paths there.
     if (test::spp_divisor() > 1) GTEST_SKIP() << "needs full sample counts";
