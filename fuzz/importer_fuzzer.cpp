@@ -16,7 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     veach::ImportOptions options;  // external files refused: URIs stay inside the (empty) folder
     try {
         // An empty folder of its own: relative URIs find nothing, data: URIs decode.
-        veach::Scene scene = veach::import_scene_from_memory(bytes, binary ? "glb" : "gltf", "/nonexistent-veach-fuzz", options);
+        veach::Scene scene =
+            veach::import_scene_from_memory(bytes, binary ? "glb" : "gltf", "/nonexistent-veach-fuzz", options);
         (void)scene;
     } catch (const veach::ImportError&) {
         // Bad input, reported as it should be.

@@ -19,14 +19,14 @@ public:
 };
 
 enum class SpotProfile : uint8_t {
-    Auto,     // Blender's (Cycles) profile when asset.generator names Blender, glTF's otherwise
+    Auto,  // Blender's (Cycles) profile when asset.generator names Blender, glTF's otherwise
     Gltf,
     Blender,
 };
 
 struct ImportOptions {
-    int scene_index = -1;          // -1: the file's default scene (or the first)
-    std::string variant;           // KHR_materials_variants name, empty = default materials
+    int scene_index = -1;  // -1: the file's default scene (or the first)
+    std::string variant;   // KHR_materials_variants name, empty = default materials
     SpotProfile spot_profile = SpotProfile::Auto;
     bool allow_external_files = false;  // URIs outside the file's folder
 };

@@ -35,9 +35,12 @@ constexpr int k_float = TINYGLTF_COMPONENT_TYPE_FLOAT;
 
 size_t component_size(int type) {
     switch (type) {
-        case k_byte: case k_ubyte: return 1;
-        case k_short: case k_ushort: return 2;
-        case k_uint: case k_float: return 4;
+        case k_byte:
+        case k_ubyte: return 1;
+        case k_short:
+        case k_ushort: return 2;
+        case k_uint:
+        case k_float: return 4;
         default: return 0;
     }
 }
@@ -124,8 +127,8 @@ struct ByteRun {
     size_t stride = 0;
 };
 
-ByteRun locate(const tinygltf::Model& model, int view_index, uint64_t byte_offset, uint64_t count,
-               size_t element_size, bool allow_stride, const std::string& where) {
+ByteRun locate(const tinygltf::Model& model, int view_index, uint64_t byte_offset, uint64_t count, size_t element_size,
+               bool allow_stride, const std::string& where) {
     const tinygltf::BufferView& view = checked_view(model, view_index, where);
     size_t stride = element_size;
     if (allow_stride && view.byteStride != 0) {
@@ -177,8 +180,7 @@ Layout declared(const tinygltf::Model& model, int index, const std::string& what
     if (l.components == 0) throw GltfError(l.where + ": matrix accessors are not valid here");
     l.component_type = a.componentType;
     l.component_bytes = component_size(a.componentType);
-    if (l.component_bytes == 0)
-        throw GltfError(l.where + ": invalid componentType " + std::to_string(a.componentType));
+    if (l.component_bytes == 0) throw GltfError(l.where + ": invalid componentType " + std::to_string(a.componentType));
     if (a.count > k_max_count)
         throw GltfError(l.where + ": count " + std::to_string(a.count) + " is larger than any mesh can use");
     l.count = a.count;
@@ -189,8 +191,7 @@ Layout declared(const tinygltf::Model& model, int index, const std::string& what
 Layout validate(const tinygltf::Model& model, int index, const std::string& what) {
     Layout l = declared(model, index, what);
     const tinygltf::Accessor& a = model.accessors[index];
-    if (a.bufferView >= 0)
-        l.run = locate(model, a.bufferView, a.byteOffset, l.count, l.element_bytes(), true, l.where);
+    if (a.bufferView >= 0) l.run = locate(model, a.bufferView, a.byteOffset, l.count, l.element_bytes(), true, l.where);
 
     if (a.sparse.isSparse) {
         if (a.sparse.count < 1 || static_cast<size_t>(a.sparse.count) > l.count)
@@ -199,8 +200,8 @@ Layout validate(const tinygltf::Model& model, int index, const std::string& what
         l.sparse_count = static_cast<size_t>(a.sparse.count);
         l.sparse_index_type = a.sparse.indices.componentType;
         if (l.sparse_index_type != k_ubyte && l.sparse_index_type != k_ushort && l.sparse_index_type != k_uint)
-            throw GltfError(l.where + ": sparse indices have component type " +
-                            component_name(l.sparse_index_type) + " (expected an unsigned integer type)");
+            throw GltfError(l.where + ": sparse indices have component type " + component_name(l.sparse_index_type) +
+                            " (expected an unsigned integer type)");
         if (a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0)
             throw GltfError(l.where + ": negative sparse byteOffset");
         l.sparse_indices = locate(model, a.sparse.indices.bufferView, a.sparse.indices.byteOffset, l.sparse_count,
@@ -210,8 +211,8 @@ Layout validate(const tinygltf::Model& model, int index, const std::string& what
         for (size_t k = 0; k < l.sparse_count; ++k) {
             uint32_t target = decode_index(l.sparse_indices.first + k * l.sparse_indices.stride, l.sparse_index_type);
             if (target >= l.count)
-                throw GltfError(l.where + ": sparse index " + std::to_string(target) +
-                                " is out of range (count " + std::to_string(l.count) + ")");
+                throw GltfError(l.where + ": sparse index " + std::to_string(target) + " is out of range (count " +
+                                std::to_string(l.count) + ")");
         }
     }
     return l;
@@ -220,8 +221,10 @@ Layout validate(const tinygltf::Model& model, int index, const std::string& what
 bool format_allows(const AttributeFormat& format, int type, bool normalized) {
     switch (type) {
         case k_float: return true;
-        case k_ubyte: case k_ushort: return normalized ? format.normalized_unsigned : format.integer;
-        case k_byte: case k_short: return normalized ? format.normalized_signed : format.integer;
+        case k_ubyte:
+        case k_ushort: return normalized ? format.normalized_unsigned : format.integer;
+        case k_byte:
+        case k_short: return normalized ? format.normalized_signed : format.integer;
         default: return false;  // UNSIGNED_INT is only valid for indices
     }
 }

@@ -17,7 +17,7 @@
 namespace tinygltf {
 class Model;
 class Value;
-}
+}  // namespace tinygltf
 
 namespace veach::gltf {
 
@@ -94,8 +94,8 @@ float decode_component(const uint8_t* p, int component_type, bool normalized);
 const char* component_type_name(int component_type);  // "UNSIGNED_SHORT", ...
 
 // Reads an index accessor (SCALAR u8 / u16 / u32), sparse substitution applied.
-std::vector<uint32_t> read_index_accessor(const tinygltf::Model& model, int index,
-                                          const std::string& what, ImportContext& context);
+std::vector<uint32_t> read_index_accessor(const tinygltf::Model& model, int index, const std::string& what,
+                                          ImportContext& context);
 
 // The bytes of bufferView `view`, checked to lie inside its buffer (for images in a GLB).
 std::span<const uint8_t> buffer_view_bytes(const tinygltf::Model& model, int view, const std::string& what);

@@ -133,8 +133,7 @@ std::optional<std::vector<uint8_t>> patch_draco_index_accessors(std::span<const 
     for (auto& mesh : *meshes) {
         if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
         for (auto& primitive : mesh["primitives"]) {
-            if (!primitive.is_object() || !primitive.contains("indices") || !primitive.contains("extensions"))
-                continue;
+            if (!primitive.is_object() || !primitive.contains("indices") || !primitive.contains("extensions")) continue;
             const auto& extensions = primitive["extensions"];
             if (!extensions.is_object() || !extensions.contains(k_extension)) continue;
             const auto& ext = extensions[k_extension];
@@ -185,8 +184,8 @@ DracoPrimitive::DracoPrimitive(std::unique_ptr<Impl> impl) : m(std::move(impl)) 
 DracoPrimitive::~DracoPrimitive() = default;
 
 std::unique_ptr<DracoPrimitive> DracoPrimitive::decode(const tinygltf::Model& model,
-                                                       const tinygltf::Primitive& primitive,
-                                                       const std::string& what, ImportContext& context) {
+                                                       const tinygltf::Primitive& primitive, const std::string& what,
+                                                       ImportContext& context) {
     auto found = primitive.extensions.find(k_extension);
     if (found == primitive.extensions.end()) return nullptr;
     auto impl = std::make_unique<Impl>();
@@ -209,8 +208,8 @@ std::unique_ptr<DracoPrimitive> DracoPrimitive::decode(const tinygltf::Model& mo
     draco::Decoder decoder;
     draco::StatusOr<std::unique_ptr<draco::Mesh>> result = decoder.DecodeMeshFromBuffer(&buffer);
     if (!result.ok())
-        throw GltfError(impl->where + ": cannot decode the Draco stream in bufferView " + std::to_string(view) +
-                        " (" + result.status().error_msg_string() + ")");
+        throw GltfError(impl->where + ": cannot decode the Draco stream in bufferView " + std::to_string(view) + " (" +
+                        result.status().error_msg_string() + ")");
     impl->mesh = std::move(result).value();
     if (!impl->mesh) throw GltfError(impl->where + ": the Draco stream decoded to nothing");
 

@@ -39,12 +39,11 @@ constexpr uint64_t k_max_file_bytes = UINT_MAX;  // tinygltf takes 32-bit length
 // Extensions we read, and ones whose data we don't use yet but whose absence of support doesn't
 // change what a file means when they are only "used" (a plain material is the fallback).
 constexpr std::string_view k_supported_extensions[] = {
-    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_specular", "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_variants",
-    "KHR_draco_mesh_compression"};
-constexpr std::string_view k_planned_extensions[] = {
-    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
-    "KHR_materials_sheen", "KHR_materials_unlit"};
+    "KHR_lights_punctual",   "KHR_materials_emissive_strength", "KHR_materials_ior",      "KHR_materials_specular",
+    "KHR_texture_transform", "KHR_mesh_quantization",           "KHR_materials_variants", "KHR_draco_mesh_compression"};
+constexpr std::string_view k_planned_extensions[] = {"KHR_materials_transmission", "KHR_materials_volume",
+                                                     "KHR_materials_clearcoat", "KHR_materials_sheen",
+                                                     "KHR_materials_unlit"};
 
 template <size_t N>
 bool contains(const std::string_view (&list)[N], const std::string& name) {
@@ -158,9 +157,7 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
     return true;
 }
 
-bool is_glb(std::span<const uint8_t> bytes) {
-    return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-}
+bool is_glb(std::span<const uint8_t> bytes) { return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0; }
 
 // The JSON text of a .gltf, or the JSON chunk of a .glb (clamped; tinygltf checks the header).
 std::string_view json_text(std::span<const uint8_t> bytes, bool binary) {
@@ -177,9 +174,12 @@ void check_json_nesting(std::string_view json) {
     bool in_string = false, escaped = false;
     for (char c : json) {
         if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                in_string = false;
         } else if (c == '"') {
             in_string = true;
         } else if (c == '{' || c == '[') {
@@ -324,8 +324,8 @@ void GltfImporter::check_extensions() {
             }
         }
         if (m_variant < 0)
-            throw GltfError("no material variant '" + m_options.variant + "' (variants: " +
-                            (known.empty() ? std::string("none") : known) + ")");
+            throw GltfError("no material variant '" + m_options.variant +
+                            "' (variants: " + (known.empty() ? std::string("none") : known) + ")");
     }
 
     switch (m_options.spot_profile) {
@@ -333,8 +333,8 @@ void GltfImporter::check_extensions() {
         case SpotProfile::Gltf: m_spot_falloff = SpotFalloff::Gltf; break;
         case SpotProfile::Auto:
             // Blender writes cone angles for its own spot profile, which differs from glTF's.
-            m_spot_falloff = m_model.asset.generator.find("Blender") != std::string::npos ? SpotFalloff::Blender
-                                                                                          : SpotFalloff::Gltf;
+            m_spot_falloff =
+                m_model.asset.generator.find("Blender") != std::string::npos ? SpotFalloff::Blender : SpotFalloff::Gltf;
             break;
     }
 }
@@ -351,10 +351,14 @@ void GltfImporter::parse_lights() {
             def.name = name->Get<std::string>();
         const tinygltf::Value* type = gltf::json_member(&v, "type");
         std::string type_name = type && type->IsString() ? type->Get<std::string>() : "";
-        if (type_name == "point") def.type = LightType::Point;
-        else if (type_name == "spot") def.type = LightType::Spot;
-        else if (type_name == "directional") def.type = LightType::Directional;
-        else m_context->warn(label + " has unknown type '" + type_name + "'; ignored");
+        if (type_name == "point")
+            def.type = LightType::Point;
+        else if (type_name == "spot")
+            def.type = LightType::Spot;
+        else if (type_name == "directional")
+            def.type = LightType::Directional;
+        else
+            m_context->warn(label + " has unknown type '" + type_name + "'; ignored");
         double color[3] = {1, 1, 1};
         if (gltf::json_member(&v, "color") && !gltf::json_numbers(gltf::json_member(&v, "color"), color, 3))
             m_context->warn(label + " has an invalid color; using white");
@@ -373,8 +377,8 @@ std::vector<int> GltfImporter::root_nodes() {
     int index = m_options.scene_index;
     if (index < -1 || index >= count || (index == -1 && m_model.defaultScene >= count))
         throw GltfError("scene " + std::to_string(index == -1 ? m_model.defaultScene : index) +
-                        " does not exist (the file has " + std::to_string(count) + " scene" +
-                        (count == 1 ? "" : "s") + ")");
+                        " does not exist (the file has " + std::to_string(count) + " scene" + (count == 1 ? "" : "s") +
+                        ")");
     if (index == -1 && count > 0) index = m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
     if (index >= 0) return m_model.scenes[index].nodes;
 
@@ -401,7 +405,8 @@ void GltfImporter::visit(int node_index, const Transform& parent, int depth) {
     if (++m_visits > k_max_node_visits)
         throw GltfError("node hierarchy expands to more than " + std::to_string(k_max_node_visits) + " nodes");
     if (m_visited[node_index] == 1) {
-        m_context->warn(node_label(node_index) + " is reached more than once (glTF nodes have one parent); "
+        m_context->warn(node_label(node_index) +
+                        " is reached more than once (glTF nodes have one parent); "
                         "placed each time");
         m_visited[node_index] = 2;  // said once
     } else if (m_visited[node_index] == 0) {
@@ -494,11 +499,11 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
     // stream (the accessors only declare them); any other attribute is read as usual.
     std::unique_ptr<gltf::DracoPrimitive> draco = gltf::DracoPrimitive::decode(m_model, prim, what, *m_context);
     if (draco && mode == TINYGLTF_MODE_TRIANGLE_FAN)
-        throw GltfError(what + ": KHR_draco_mesh_compression allows mode TRIANGLES or TRIANGLE_STRIP, "
-                               "not TRIANGLE_FAN");
+        throw GltfError(what +
+                        ": KHR_draco_mesh_compression allows mode TRIANGLES or TRIANGLE_STRIP, "
+                        "not TRIANGLE_FAN");
     auto fetch = [&](const char* name, const gltf::AttributeFormat& format) {
-        if (draco && draco->has(name))
-            return draco->read(m_model, attribute(name), name, format, what, *m_context);
+        if (draco && draco->has(name)) return draco->read(m_model, attribute(name), name, format, what, *m_context);
         return gltf::read_float_accessor(m_model, attribute(name), format, what + " " + name, *m_context);
     };
 
@@ -561,8 +566,8 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
         triangles = draco->triangles(m_model, prim.indices, mode == TINYGLTF_MODE_TRIANGLES, what, *m_context);
         for (uint32_t index : triangles)
             if (index >= n)
-                throw GltfError(what + ": the Draco stream's index " + std::to_string(index) +
-                                " is past POSITION's " + std::to_string(n) + " vertices");
+                throw GltfError(what + ": the Draco stream's index " + std::to_string(index) + " is past POSITION's " +
+                                std::to_string(n) + " vertices");
     } else {
         std::vector<uint32_t> indices;
         if (prim.indices != -1) {
@@ -572,9 +577,9 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
             indices = gltf::read_index_accessor(m_model, prim.indices, what + " indices", *m_context);
             for (uint32_t index : indices)
                 if (index >= n)
-                    throw GltfError(what + ": index accessor " + std::to_string(prim.indices) +
-                                    " holds index " + std::to_string(index) + ", but POSITION has only " +
-                                    std::to_string(n) + " vertices");
+                    throw GltfError(what + ": index accessor " + std::to_string(prim.indices) + " holds index " +
+                                    std::to_string(index) + ", but POSITION has only " + std::to_string(n) +
+                                    " vertices");
         } else {
             m_context->charge(n * sizeof(uint32_t), what);
             indices.resize(n);
@@ -685,8 +690,10 @@ void GltfImporter::add_camera(int node_index, const Transform& world) {
     auto positive = [](double v) { return std::isfinite(v) && v > 0; };
     if (src.type == "perspective") {
         const tinygltf::PerspectiveCamera& p = src.perspective;
-        if (positive(p.yfov) && p.yfov < k_pi) cam.yfov = float(p.yfov);
-        else m_context->warn(label + " has an invalid yfov; using " + std::to_string(cam.yfov));
+        if (positive(p.yfov) && p.yfov < k_pi)
+            cam.yfov = float(p.yfov);
+        else
+            m_context->warn(label + " has an invalid yfov; using " + std::to_string(cam.yfov));
         cam.aspect_ratio = positive(p.aspectRatio) ? float(p.aspectRatio) : 0.0f;
         if (positive(p.znear)) cam.znear = float(p.znear);
         cam.zfar = positive(p.zfar) ? float(p.zfar) : 0.0f;
@@ -725,8 +732,10 @@ void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const T
     light.position = world.point(Vec3(0, 0, 0));
     Vec3 axis = world.vector(Vec3(0, 0, -1));
     float len = length(axis);
-    if (len > 0 && std::isfinite(len)) light.direction = axis / len;
-    else if (light.type != LightType::Point) m_context->warn(light.name + ": degenerate direction; using -Z");
+    if (len > 0 && std::isfinite(len))
+        light.direction = axis / len;
+    else if (light.type != LightType::Point)
+        m_context->warn(light.name + ": degenerate direction; using -Z");
     if (light.type == LightType::Spot) {
         double outer = std::clamp(def.outer_cone, 0.0, double(k_pi) / 2);
         double inner = std::clamp(def.inner_cone, 0.0, outer);

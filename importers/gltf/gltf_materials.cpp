@@ -155,8 +155,8 @@ Material MaterialConverter::convert(int index) {
     if (const tinygltf::Value* cc = json_extension(src.extensions, "KHR_materials_clearcoat")) {
         m.clearcoat = clamp(static_cast<float>(json_number(cc, "clearcoatFactor", 0.0)), 0.0f, 1.0f);
         m.clearcoat_roughness = clamp(static_cast<float>(json_number(cc, "clearcoatRoughnessFactor", 0.0)), 0.0f, 1.0f);
-        m.clearcoat_texture = texture_ref(json_info(json_member(cc, "clearcoatTexture")), ColorSpace::Linear,
-                                          what + " clearcoatTexture");
+        m.clearcoat_texture =
+            texture_ref(json_info(json_member(cc, "clearcoatTexture")), ColorSpace::Linear, what + " clearcoatTexture");
         m.clearcoat_roughness_texture = texture_ref(json_info(json_member(cc, "clearcoatRoughnessTexture")),
                                                     ColorSpace::Linear, what + " clearcoatRoughnessTexture");
         const tinygltf::Value* normal = json_member(cc, "clearcoatNormalTexture");
@@ -170,10 +170,10 @@ Material MaterialConverter::convert(int index) {
             m_context.warn(what + ": invalid sheenColorFactor, using black");
         m.sheen_color = to_rgb(color);
         m.sheen_roughness = clamp(static_cast<float>(json_number(sh, "sheenRoughnessFactor", 0.0)), 0.0f, 1.0f);
-        m.sheen_color_texture = texture_ref(json_info(json_member(sh, "sheenColorTexture")), ColorSpace::Srgb,
-                                            what + " sheenColorTexture");
-        m.sheen_roughness_texture = texture_ref(json_info(json_member(sh, "sheenRoughnessTexture")),
-                                                ColorSpace::Linear, what + " sheenRoughnessTexture");
+        m.sheen_color_texture =
+            texture_ref(json_info(json_member(sh, "sheenColorTexture")), ColorSpace::Srgb, what + " sheenColorTexture");
+        m.sheen_roughness_texture = texture_ref(json_info(json_member(sh, "sheenRoughnessTexture")), ColorSpace::Linear,
+                                                what + " sheenRoughnessTexture");
     }
     if (json_extension(src.extensions, "KHR_materials_unlit")) {
         // Unlit: the base colour is what the viewer sees, whatever the lighting. In a path
@@ -296,8 +296,10 @@ Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std
         ImageData img;
         try {
             std::string name = !image.uri.empty() && !image.uri.starts_with("data:") ? image.uri : "image";
-            if (image.mimeType == "image/x-exr" || image.mimeType == "image/exr") name += ".exr";
-            else if (image.mimeType == "image/tiff") name += ".tif";
+            if (image.mimeType == "image/x-exr" || image.mimeType == "image/exr")
+                name += ".exr";
+            else if (image.mimeType == "image/tiff")
+                name += ".tif";
             img = read_image_memory(bytes.data(), bytes.size(), name);
         } catch (const ImageReadError&) {
             throw GltfError(where + ": cannot decode (" + stb_error + ")");
@@ -337,9 +339,9 @@ Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std
     if (w != width || h != height) throw GltfError(where + ": inconsistent image header");
 
     Texture tex;
-    tex.name = !image.name.empty() ? image.name : !image.uri.empty() && !image.uri.starts_with("data:")
-                                                      ? image.uri
-                                                      : "image " + std::to_string(src.source);
+    tex.name = !image.name.empty()                                     ? image.name
+               : !image.uri.empty() && !image.uri.starts_with("data:") ? image.uri
+                                                                       : "image " + std::to_string(src.source);
     tex.width = width;
     tex.height = height;
     // stb_image returns rows top first, which is Texture's layout; glTF's v = 0 is the top row.

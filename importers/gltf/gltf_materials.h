@@ -44,7 +44,7 @@ private:
 
     const tinygltf::Model& m_model;
     ImportContext& m_context;
-    std::vector<int32_t> m_material_slots;                  // glTF material -> scene index, -1 = not yet
+    std::vector<int32_t> m_material_slots;                     // glTF material -> scene index, -1 = not yet
     std::map<std::pair<int, ColorSpace>, int32_t> m_textures;  // (glTF texture, space) -> scene index
 };
 

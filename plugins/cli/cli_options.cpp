@@ -111,7 +111,9 @@ void expand_input(const std::string& pattern, std::vector<std::string>& out) {
 
 ApiOption int_option(const std::string& name, long long v) { return {ApiOption::Type::Int, name, v, 0, {}}; }
 ApiOption float_option(const std::string& name, double v) { return {ApiOption::Type::Float, name, 0, v, {}}; }
-ApiOption string_option(const std::string& name, const std::string& v) { return {ApiOption::Type::String, name, 0, 0, v}; }
+ApiOption string_option(const std::string& name, const std::string& v) {
+    return {ApiOption::Type::String, name, 0, 0, v};
+}
 
 // A scene (never loaded) and a render of an empty scene on which the parser tries values: the
 // library's own checks decide what is valid, the command only words the usage message.
@@ -123,7 +125,8 @@ public:
         VeachScene empty = veachNewSceneFromMemory(device, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr);
         if (empty) m_render = veachNewRender(empty);
         veachReleaseScene(empty);  // the render holds it
-        if (!m_scene || !m_render) throw std::runtime_error(std::string("cannot start libveach: ") + veachGetLastError());
+        if (!m_scene || !m_render)
+            throw std::runtime_error(std::string("cannot start libveach: ") + veachGetLastError());
     }
     ~Probe() {
         veachReleaseRender(m_render);
@@ -171,17 +174,17 @@ std::string render_string(VeachRender r, const char* name) {
 
 VeachError apply_scene_option(VeachScene scene, const ApiOption& o) {
     switch (o.type) {
-    case ApiOption::Type::Int: return veachSetSceneInt(scene, o.name.c_str(), o.i);
-    case ApiOption::Type::Float: return veachSetSceneFloat(scene, o.name.c_str(), o.f);
-    default: return veachSetSceneString(scene, o.name.c_str(), o.s.c_str());
+        case ApiOption::Type::Int: return veachSetSceneInt(scene, o.name.c_str(), o.i);
+        case ApiOption::Type::Float: return veachSetSceneFloat(scene, o.name.c_str(), o.f);
+        default: return veachSetSceneString(scene, o.name.c_str(), o.s.c_str());
     }
 }
 
 VeachError apply_render_option(VeachRender render, const ApiOption& o) {
     switch (o.type) {
-    case ApiOption::Type::Int: return veachSetInt(render, o.name.c_str(), o.i);
-    case ApiOption::Type::Float: return veachSetFloat(render, o.name.c_str(), o.f);
-    default: return veachSetString(render, o.name.c_str(), o.s.c_str());
+        case ApiOption::Type::Int: return veachSetInt(render, o.name.c_str(), o.i);
+        case ApiOption::Type::Float: return veachSetFloat(render, o.name.c_str(), o.f);
+        default: return veachSetString(render, o.name.c_str(), o.s.c_str());
     }
 }
 
@@ -220,105 +223,129 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             return args[++i];
         };
         constexpr long long int_max = std::numeric_limits<int>::max();
-        if (a == "-o" || a == "--output") cmd.outputs.push_back(value());
-        else if (a == "--width") render_opt(int_option("width", parse_integer(a, value(), 1, 65536)));
-        else if (a == "--height") render_opt(int_option("height", parse_integer(a, value(), 1, 65536)));
-        else if (a == "--spp") render_opt(int_option("spp", parse_integer(a, value(), 1, int_max)));
-        else if (a == "--time") render_opt(float_option("time_limit", parse_number(a, value(), 0.0, 1e9)));
+        if (a == "-o" || a == "--output")
+            cmd.outputs.push_back(value());
+        else if (a == "--width")
+            render_opt(int_option("width", parse_integer(a, value(), 1, 65536)));
+        else if (a == "--height")
+            render_opt(int_option("height", parse_integer(a, value(), 1, 65536)));
+        else if (a == "--spp")
+            render_opt(int_option("spp", parse_integer(a, value(), 1, int_max)));
+        else if (a == "--time")
+            render_opt(float_option("time_limit", parse_number(a, value(), 0.0, 1e9)));
         else if (a == "--seed")
             render_opt(int_option("seed", parse_integer(a, value(), 0, std::numeric_limits<long long>::max())));
-        else if (a == "--threads") render_opt(int_option("threads", parse_integer(a, value(), 0, 4096)));
-        else if (a == "--integrator") integrator = value();
+        else if (a == "--threads")
+            render_opt(int_option("threads", parse_integer(a, value(), 0, 4096)));
+        else if (a == "--integrator")
+            integrator = value();
         else if (a == "--bdpt-strategy") {
             const std::string& v = value();
             size_t comma = v.find(',');
             if (comma == std::string::npos) throw UsageError("--bdpt-strategy expects s,t (e.g. 2,2)");
             render_opt(int_option("bdpt_s", parse_integer(a, v.substr(0, comma), 0, 1000)));
             render_opt(int_option("bdpt_t", parse_integer(a, v.substr(comma + 1), 1, 1000)));
-        }
-        else if (a == "--sampler") {
+        } else if (a == "--sampler") {
             const std::string& v = value();
             render_opt(string_option("sampler", v), "--sampler expects sobol or random, not '" + v + "'");
-        }
-        else if (a == "--max-depth") render_opt(int_option("max_depth", parse_integer(a, value(), 0, 100000)));
-        else if (a == "--noise") render_opt(float_option("noise", parse_number(a, value(), 0.0, 1e6)));
-        else if (a == "--camera") render_opt(string_option("camera", value()));  // checked against the scene
-        else if (a == "--scene") scene_opt(int_option("scene_index", parse_integer(a, value(), 0, int_max)), {});
+        } else if (a == "--max-depth")
+            render_opt(int_option("max_depth", parse_integer(a, value(), 0, 100000)));
+        else if (a == "--noise")
+            render_opt(float_option("noise", parse_number(a, value(), 0.0, 1e6)));
+        else if (a == "--camera")
+            render_opt(string_option("camera", value()));  // checked against the scene
+        else if (a == "--scene")
+            scene_opt(int_option("scene_index", parse_integer(a, value(), 0, int_max)), {});
         else if (a == "--spot-falloff") {
             const std::string& v = value();
-            scene_opt(string_option("spot_falloff", v), "--spot-falloff expects auto, blender or gltf, not '" + v + "'");
-        }
-        else if (a == "--allow-external-files") scene_opt(int_option("allow_external_files", 1), {});
-        else if (a == "--variant") scene_opt(string_option("variant", value()), {});  // checked against the file
+            scene_opt(string_option("spot_falloff", v),
+                      "--spot-falloff expects auto, blender or gltf, not '" + v + "'");
+        } else if (a == "--allow-external-files")
+            scene_opt(int_option("allow_external_files", 1), {});
+        else if (a == "--variant")
+            scene_opt(string_option("variant", value()), {});  // checked against the file
         else if (a == "--env") {
             const std::string& v = value();
             env_map = !v.empty();
             scene_opt(string_option("env_map", v), {});
-        }
-        else if (a == "--env-color") {
+        } else if (a == "--env-color") {
             const std::string& v = value();
             size_t start = 0;
             for (int k = 0; k < 3; ++k) {
                 size_t comma = v.find(',', start);
-                if ((k < 2) != (comma != std::string::npos)) throw UsageError("--env-color expects R,G,B (e.g. 0.8,0.9,1)");
+                if ((k < 2) != (comma != std::string::npos))
+                    throw UsageError("--env-color expects R,G,B (e.g. 0.8,0.9,1)");
                 parse_number(a, v.substr(start, comma - start), 0.0, 1e30);
                 start = comma + 1;
             }
             env_color = v;
-        }
-        else if (a == "--env-strength") scene_opt(float_option("env_strength", parse_number(a, value(), 0.0, 1e30)), {});
-        else if (a == "--env-rotate") scene_opt(float_option("env_rotate", parse_number(a, value(), -1e6, 1e6)), {});
-        else if (a == "--display") render_opt(string_option("display", value()));
-        else if (a == "--view") render_opt(string_option("view", value()));
-        else if (a == "--look") render_opt(string_option("look", value()));
-        else if (a == "--exposure") render_opt(float_option("exposure", parse_number(a, value(), -64, 64)));
-        else if (a == "--gamma") render_opt(float_option("gamma", parse_number(a, value(), 0.01, 100)));
-        else if (a == "--half") render_opt(int_option("half", 1));
+        } else if (a == "--env-strength")
+            scene_opt(float_option("env_strength", parse_number(a, value(), 0.0, 1e30)), {});
+        else if (a == "--env-rotate")
+            scene_opt(float_option("env_rotate", parse_number(a, value(), -1e6, 1e6)), {});
+        else if (a == "--display")
+            render_opt(string_option("display", value()));
+        else if (a == "--view")
+            render_opt(string_option("view", value()));
+        else if (a == "--look")
+            render_opt(string_option("look", value()));
+        else if (a == "--exposure")
+            render_opt(float_option("exposure", parse_number(a, value(), -64, 64)));
+        else if (a == "--gamma")
+            render_opt(float_option("gamma", parse_number(a, value(), 0.01, 100)));
+        else if (a == "--half")
+            render_opt(int_option("half", 1));
         else if (a == "--filter") {
             const std::string& v = value();
-            render_opt(string_option("filter", v), "--filter expects box, gaussian or blackman-harris, not '" + v + "'");
+            render_opt(string_option("filter", v),
+                       "--filter expects box, gaussian or blackman-harris, not '" + v + "'");
             filter_smooth = v != "box";
-        }
-        else if (a == "--filter-width") {
+        } else if (a == "--filter-width") {
             render_opt(float_option("filter_width", parse_number(a, value(), 0.01, 64)));
             filter_width_given = true;
-        }
-        else if (a == "--exr-codec") {
+        } else if (a == "--exr-codec") {
             const std::string& v = value();
-            render_opt(string_option("exr_codec", v),
-                       "--exr-codec expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" + v + "'");
-        }
-        else if (a == "--passes") {
+            render_opt(
+                string_option("exr_codec", v),
+                "--exr-codec expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" + v + "'");
+        } else if (a == "--passes") {
             const std::string v = value();
             for (size_t start = 0; start <= v.size();) {
                 size_t comma = std::min(v.find(',', start), v.size());
                 std::string name = v.substr(start, comma - start);
                 if (name.empty() || !probe.render_accepts(string_option("passes", name)))
-                    throw UsageError("--passes: unknown pass '" + name + "' (known: " + device_list(device, "passes", ", ") +
-                                     ")");
+                    throw UsageError("--passes: unknown pass '" + name +
+                                     "' (known: " + device_list(device, "passes", ", ") + ")");
                 start = comma + 1;
             }
             render_opt(string_option("passes", v));
-        }
-        else if (a == "--skip-existing") cmd.skip_existing = true;
-        else if (a == "--checkpoint") cmd.checkpoint_seconds = parse_number(a, value(), 0.0, 1e9);
-        else if (a == "--resume") cmd.resume = true;
-        else if (a == "--quality") render_opt(int_option("quality", parse_integer(a, value(), 1, 100)));
+        } else if (a == "--skip-existing")
+            cmd.skip_existing = true;
+        else if (a == "--checkpoint")
+            cmd.checkpoint_seconds = parse_number(a, value(), 0.0, 1e9);
+        else if (a == "--resume")
+            cmd.resume = true;
+        else if (a == "--quality")
+            render_opt(int_option("quality", parse_integer(a, value(), 1, 100)));
         else if (a == "--bits") {
             int b = static_cast<int>(parse_integer(a, value(), 8, 16));
             if (b != 8 && b != 16) throw UsageError("--bits expects 8 or 16");
             render_opt(int_option("bits", b));
-        }
-        else if (a == "--stats-json") cmd.stats_json = value();
-        else if (a == "-q" || a == "--quiet") cmd.quiet = true;
-        else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "'");
-        else expand_input(a, cmd.inputs);
+        } else if (a == "--stats-json")
+            cmd.stats_json = value();
+        else if (a == "-q" || a == "--quiet")
+            cmd.quiet = true;
+        else if (!a.empty() && a[0] == '-')
+            throw UsageError("unknown option '" + a + "'");
+        else
+            expand_input(a, cmd.inputs);
     }
     // Blender's width default for its smooth filters; the box stays one pixel.
     if (filter_smooth && !filter_width_given) render_opt(float_option("filter_width", 1.5));
     if (cmd.inputs.empty()) throw UsageError("no input scene given");
     if (env_map && !env_color.empty()) throw UsageError("--env and --env-color exclude each other");
-    if (!env_color.empty()) scene_opt(string_option("env_color", env_color), "--env-color expects R,G,B (e.g. 0.8,0.9,1)");
+    if (!env_color.empty())
+        scene_opt(string_option("env_color", env_color), "--env-color expects R,G,B (e.g. 0.8,0.9,1)");
     if (cmd.outputs.empty()) throw UsageError("no output given (-o FILE)");
     for (const std::string& o : cmd.outputs)
         if (cmd.inputs.size() > 1 && o.find("{stem}") == std::string::npos)

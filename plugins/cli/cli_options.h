@@ -26,15 +26,15 @@ struct ApiOption {
 };
 
 struct RenderCommand {
-    std::vector<std::string> inputs;   // after glob expansion
-    std::vector<std::string> outputs;  // files or patterns with {stem}; -o may repeat
+    std::vector<std::string> inputs;        // after glob expansion
+    std::vector<std::string> outputs;       // files or patterns with {stem}; -o may repeat
     std::vector<ApiOption> scene_options;   // veachSetScene*: before each input is loaded
     std::vector<ApiOption> render_options;  // veachSet*: on each input's render
     std::string stats_json;
     bool quiet = false;
-    bool skip_existing = false;       // skip inputs whose outputs all exist
-    double checkpoint_seconds = -1;   // --checkpoint: < 0 none, else the interval (0: every pass)
-    bool resume = false;              // --resume: continue from the checkpoint when there is one
+    bool skip_existing = false;      // skip inputs whose outputs all exist
+    double checkpoint_seconds = -1;  // --checkpoint: < 0 none, else the interval (0: every pass)
+    bool resume = false;             // --resume: continue from the checkpoint when there is one
 };
 
 // String queries through the C API's caller-buffer convention ("" when the query fails).

@@ -54,10 +54,10 @@ void install_stop_handlers() {
 
 const char* signal_name(int sig) {
     switch (sig) {
-    case SIGINT: return "SIGINT";
-    case SIGTERM: return "SIGTERM";
-    case SIGHUP: return "SIGHUP";
-    default: return "a signal";
+        case SIGINT: return "SIGINT";
+        case SIGTERM: return "SIGTERM";
+        case SIGHUP: return "SIGHUP";
+        default: return "a signal";
     }
 }
 
@@ -122,12 +122,14 @@ int list_color_config(VeachDevice device) {
 std::string json_escape(const std::string& s) {
     std::string out;
     for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\', out += c;
+        if (c == '"' || c == '\\')
+            out += '\\', out += c;
         else if (static_cast<unsigned char>(c) < 0x20) {
             char buf[8];
             std::snprintf(buf, sizeof(buf), "\\u%04x", c);
             out += buf;
-        } else out += c;
+        } else
+            out += c;
     }
     return out;
 }
@@ -235,12 +237,15 @@ VeachStatus render_and_watch(VeachRender render) {
 
 int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input) {
     using clock = std::chrono::steady_clock;
-    auto seconds = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+    auto seconds = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double>(b - a).count();
+    };
     Timings t;
     if (cmd.skip_existing) {
         bool all = true;
         std::error_code ec;
-        for (const std::string& pattern : cmd.outputs) all = all && std::filesystem::exists(output_path_for(pattern, input), ec);
+        for (const std::string& pattern : cmd.outputs)
+            all = all && std::filesystem::exists(output_path_for(pattern, input), ec);
         if (all) {
             if (!cmd.quiet) std::fprintf(stderr, "veach: %s: skipped, its output exists\n", input.c_str());
             return k_ok;
@@ -297,10 +302,14 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
         const char* message = veachGetLastError();
         // The library's codes, as the command's exit codes: a checkpoint that cannot be read or
         // belongs to another render is bad input (2), one that cannot be written a failure (3).
-        if (e == VEACH_ERROR_BAD_INPUT) std::fprintf(stderr, "veach: %s\n", message);
-        else if (e == VEACH_ERROR_OUTPUT) std::fprintf(stderr, "veach: %s\n", message);
-        else if (e == VEACH_ERROR_INVALID_ARGUMENT) std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), message);
-        else std::fprintf(stderr, "veach: %s: render failed: %s\n", input.c_str(), message);
+        if (e == VEACH_ERROR_BAD_INPUT)
+            std::fprintf(stderr, "veach: %s\n", message);
+        else if (e == VEACH_ERROR_OUTPUT)
+            std::fprintf(stderr, "veach: %s\n", message);
+        else if (e == VEACH_ERROR_INVALID_ARGUMENT)
+            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), message);
+        else
+            std::fprintf(stderr, "veach: %s: render failed: %s\n", input.c_str(), message);
         return e == VEACH_ERROR_BAD_INPUT || e == VEACH_ERROR_INVALID_ARGUMENT ? k_bad_input : k_failure;
     }
     progress.finish();

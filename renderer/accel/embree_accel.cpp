@@ -51,9 +51,9 @@ struct Accel::Impl {
     const Scene& scene;
     RTCDevice device = nullptr;
     RTCScene top = nullptr;
-    std::vector<RTCScene> mesh_scenes;             // per mesh placed several times, else null
-    std::vector<std::vector<Vec3>> baked;          // per instance: world positions, or empty
-    std::vector<uint32_t> geom_to_instance;        // top-level geometry id -> instance
+    std::vector<RTCScene> mesh_scenes;                  // per mesh placed several times, else null
+    std::vector<std::vector<Vec3>> baked;               // per instance: world positions, or empty
+    std::vector<uint32_t> geom_to_instance;             // top-level geometry id -> instance
     std::vector<std::unique_ptr<AlphaGeometry>> alpha;  // filter data, stable addresses
 
     explicit Impl(const Scene& s) : scene(s) {}
@@ -68,8 +68,8 @@ struct Accel::Impl {
     // vertex array carries one padding element past the end.
     RTCGeometry make_triangles(const Vec3* positions, size_t vertex_count, const Mesh& mesh) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions, 0,
-                                   sizeof(Vec3), vertex_count);
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions, 0, sizeof(Vec3),
+                                   vertex_count);
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                    3 * sizeof(uint32_t), mesh.triangle_count());
         install_alpha_filter(g, mesh);
@@ -125,8 +125,8 @@ Accel::Accel(const Scene& scene) : m_impl(std::make_unique<Impl>(scene)) {
                 rtcSetSceneBuildQuality(sub, RTC_BUILD_QUALITY_HIGH);
                 // Embree needs the padding element, so instanced meshes get their own copy too.
                 RTCGeometry mg = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-                auto* vb = static_cast<Vec3*>(rtcSetNewGeometryBuffer(
-                    mg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3), mesh.positions.size()));
+                auto* vb = static_cast<Vec3*>(rtcSetNewGeometryBuffer(mg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                      sizeof(Vec3), mesh.positions.size()));
                 std::copy(mesh.positions.begin(), mesh.positions.end(), vb);
                 rtcSetSharedGeometryBuffer(mg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                            3 * sizeof(uint32_t), mesh.triangle_count());
@@ -160,8 +160,12 @@ bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* 
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
-    rh.ray.org_x = origin.x; rh.ray.org_y = origin.y; rh.ray.org_z = origin.z;
-    rh.ray.dir_x = dir.x; rh.ray.dir_y = dir.y; rh.ray.dir_z = dir.z;
+    rh.ray.org_x = origin.x;
+    rh.ray.org_y = origin.y;
+    rh.ray.org_z = origin.z;
+    rh.ray.dir_x = dir.x;
+    rh.ray.dir_y = dir.y;
+    rh.ray.dir_z = dir.z;
     rh.ray.tnear = 0.0f;
     rh.ray.tfar = t_max;
     rh.ray.mask = 0xffffffffu;
@@ -184,8 +188,12 @@ bool Accel::occluded(const Vec3& origin, const Vec3& dir, float t_max) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r;
-    r.org_x = origin.x; r.org_y = origin.y; r.org_z = origin.z;
-    r.dir_x = dir.x; r.dir_y = dir.y; r.dir_z = dir.z;
+    r.org_x = origin.x;
+    r.org_y = origin.y;
+    r.org_z = origin.z;
+    r.dir_x = dir.x;
+    r.dir_y = dir.y;
+    r.dir_z = dir.z;
     r.tnear = 0.0f;
     r.tfar = t_max;
     r.mask = 0xffffffffu;

@@ -114,7 +114,6 @@ void VeachDeviceImpl::report(VeachError code, const std::string& message) {
     if (fn) fn(user, code, message.c_str());
 }
 
-
 extern "C" {
 
 VEACH_API int veachGetVersion(void) { return VEACH_VERSION; }
@@ -152,8 +151,10 @@ VEACH_API VeachError veachGetDeviceInt(VeachDevice device, const char* name, lon
         if (!device) throw veach::capi::invalid("veachGetDeviceInt: null device");
         if (!value) throw veach::capi::invalid("veachGetDeviceInt: null value pointer");
         std::string n = name ? name : "";
-        if (n == "peak_memory_bytes") *value = static_cast<long long>(veach::peak_resident_bytes());
-        else throw veach::capi::invalid("unknown device int '" + n + "' (known: peak_memory_bytes)");
+        if (n == "peak_memory_bytes")
+            *value = static_cast<long long>(veach::peak_resident_bytes());
+        else
+            throw veach::capi::invalid("unknown device int '" + n + "' (known: peak_memory_bytes)");
         return VEACH_ERROR_NONE;
     });
 }
@@ -175,10 +176,14 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
         if (!buffer && size > 0) throw veach::capi::invalid("veachGetDeviceString: null buffer");
         std::string n = name ? name : "";
         std::string value;
-        if (n == "integrators") value = lines(veach::integrator_names());
-        else if (n == "filters") value = "box\ngaussian\nblackman-harris";
-        else if (n == "passes") value = lines(veach::known_passes());
-        else if (n == "exr_codecs") value = "none\nrle\nzips\nzip\npiz\npxr24\nb44\nb44a\ndwaa\ndwab";
+        if (n == "integrators")
+            value = lines(veach::integrator_names());
+        else if (n == "filters")
+            value = "box\ngaussian\nblackman-harris";
+        else if (n == "passes")
+            value = lines(veach::known_passes());
+        else if (n == "exr_codecs")
+            value = "none\nrle\nzips\nzip\npiz\npxr24\nb44\nb44a\ndwaa\ndwab";
         else if (n.rfind("color_", 0) == 0) {
             // Read on every call: $OCIO may change between calls, and listing is rare.
             veach::ColorConfigInfo info;
@@ -187,16 +192,20 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
             } catch (const std::exception& e) {
                 throw ApiError{VEACH_ERROR_BAD_INPUT, e.what()};
             }
-            if (n == "color_config") value = info.source;
-            else if (n == "color_displays") value = lines(info.displays);
-            else if (n == "color_looks") value = lines(info.looks);
+            if (n == "color_config")
+                value = info.source;
+            else if (n == "color_displays")
+                value = lines(info.displays);
+            else if (n == "color_looks")
+                value = lines(info.looks);
             else if (n.rfind("color_views:", 0) == 0) {
                 std::string display = n.substr(12);
                 bool found = false;
                 for (const auto& [d, views] : info.views)
                     if (d == display) value = lines(views), found = true;
                 if (!found) throw veach::capi::invalid("no display '" + display + "' in the colour config");
-            } else throw veach::capi::invalid("unknown device string '" + n + "'");
+            } else
+                throw veach::capi::invalid("unknown device string '" + n + "'");
         } else
             throw veach::capi::invalid("unknown device string '" + n +
                                        "' (known: integrators, filters, passes, exr_codecs, color_config, "

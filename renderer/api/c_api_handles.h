@@ -4,12 +4,12 @@
 
 #include <atomic>
 #include <condition_variable>
-#include <vector>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <type_traits>
+#include <vector>
 
 #include "api/environment_options.h"
 #include "api/render_job.h"
@@ -49,8 +49,8 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     std::atomic<bool> m_loaded{false};
     veach::ImportOptions m_import;
     veach::EnvironmentOptions m_environment;
-    std::string m_env_color;   // the env_color option as given ("R,G,B"), for reading back
-    std::string m_source;      // the file loaded, "" for a scene from memory
+    std::string m_env_color;  // the env_color option as given ("R,G,B"), for reading back
+    std::string m_source;     // the file loaded, "" for a scene from memory
     // Identifies the scene's content and every scene option for checkpoints: a checkpoint of
     // another file, variant or environment is refused.
     uint64_t m_content_hash = 0;
@@ -147,10 +147,14 @@ R guarded(VeachDeviceImpl* device, R on_error, Body&& body) noexcept {
     } catch (...) {
         std::string message;
         VeachError code = code_of_current_exception(message);
-        if (device) device->report(code, message);
-        else set_last_error(code, message);
-        if constexpr (std::is_same_v<R, VeachError>) return code;  // the precise code, not the fallback
-        else return on_error;
+        if (device)
+            device->report(code, message);
+        else
+            set_last_error(code, message);
+        if constexpr (std::is_same_v<R, VeachError>)
+            return code;  // the precise code, not the fallback
+        else
+            return on_error;
     }
 }
 

@@ -78,8 +78,10 @@ VeachError VeachRenderImpl::run() {
         m_failure = outcome;
         m_failure_message = message;
     }
-    if (status == VEACH_STATUS_FAILED) m_scene->m_device->report(outcome, message);
-    else if (status == VEACH_STATUS_CANCELLED) veach::capi::set_last_error(outcome, message);
+    if (status == VEACH_STATUS_FAILED)
+        m_scene->m_device->report(outcome, message);
+    else if (status == VEACH_STATUS_CANCELLED)
+        veach::capi::set_last_error(outcome, message);
     {
         // Publish under the mutex so that a waiter cannot miss the notification.
         std::lock_guard<std::mutex> lock(m_mutex);
@@ -112,17 +114,32 @@ int to_int(const std::string& name, long long value, long long lo, long long hi)
 constexpr long long k_int_max = std::numeric_limits<int>::max();
 
 // The options' names by type (OptionTable, c_api_handles.h).
-const OptionTable k_options{
-    "option",
-    {"width", "height", "spp", "seed", "max_depth", "threads", "bits", "quality", "half", "aovs",
-     "bdpt_s", "bdpt_t", "resume", "result_width", "result_height", "result_spp",
-     "result_resumed_spp", "result_complete", "result_camera_samples", "result_rays",
-     "result_nonfinite_samples"},
-    {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress",
-     "eta_seconds", "render_seconds", "build_seconds"},
-    {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes",
-     "checkpoint", "result_camera", "result_integrator", "result_warnings"}
-};
+const OptionTable k_options{"option",
+                            {"width",
+                             "height",
+                             "spp",
+                             "seed",
+                             "max_depth",
+                             "threads",
+                             "bits",
+                             "quality",
+                             "half",
+                             "aovs",
+                             "bdpt_s",
+                             "bdpt_t",
+                             "resume",
+                             "result_width",
+                             "result_height",
+                             "result_spp",
+                             "result_resumed_spp",
+                             "result_complete",
+                             "result_camera_samples",
+                             "result_rays",
+                             "result_nonfinite_samples"},
+                            {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval",
+                             "progress", "eta_seconds", "render_seconds", "build_seconds"},
+                            {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec",
+                             "passes", "checkpoint", "result_camera", "result_integrator", "result_warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
@@ -161,7 +178,8 @@ VEACH_API VeachRender veachNewRender(VeachScene scene) {
     return guarded<VeachRender>(scene ? scene->m_device : nullptr, nullptr, [&] {
         if (!scene) throw invalid("veachNewRender: null scene");
         if (!scene->m_loaded)
-            throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachNewRender: the scene is not loaded (veachLoadSceneFile)"};
+            throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                           "veachNewRender: the scene is not loaded (veachLoadSceneFile)"};
         auto* r = new VeachRenderImpl();
         veachRetainScene(scene);
         r->m_scene = scene;
@@ -186,23 +204,34 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
         if (is_result(n)) throw invalid("option '" + n + "' is read-only");
         std::lock_guard<std::mutex> lock(render->m_mutex);
         veach::RenderJobOptions& job = render->m_job;
-        if (n == "width") job.width = to_int(n, value, 0, 65536);
-        else if (n == "height") job.height = to_int(n, value, 0, 65536);
-        else if (n == "spp") job.render.spp = to_int(n, value, 1, k_int_max);
+        if (n == "width")
+            job.width = to_int(n, value, 0, 65536);
+        else if (n == "height")
+            job.height = to_int(n, value, 0, 65536);
+        else if (n == "spp")
+            job.render.spp = to_int(n, value, 1, k_int_max);
         else if (n == "seed") {
             if (value < 0) throw invalid("option 'seed' must not be negative");
             job.render.seed = static_cast<uint64_t>(value);
-        } else if (n == "max_depth") job.render.max_depth = to_int(n, value, 0, 100000);
-        else if (n == "threads") job.render.threads = to_int(n, value, 0, 1 << 16);
+        } else if (n == "max_depth")
+            job.render.max_depth = to_int(n, value, 0, 100000);
+        else if (n == "threads")
+            job.render.threads = to_int(n, value, 0, 1 << 16);
         else if (n == "bits") {
             if (value != 8 && value != 16) throw invalid("option 'bits' must be 8 or 16");
             render->m_output.bits = static_cast<int>(value);
-        } else if (n == "quality") render->m_output.quality = to_int(n, value, 1, 100);
-        else if (n == "half") render->m_output.half = to_int(n, value, 0, 1) != 0;
-        else if (n == "aovs") job.film.aovs = to_int(n, value, 0, 1) != 0;
-        else if (n == "bdpt_s") job.render.bdpt_s = to_int(n, value, -1, 1000);
-        else if (n == "bdpt_t") job.render.bdpt_t = to_int(n, value, -1, 1000);
-        else if (n == "resume") job.checkpoint.resume = to_int(n, value, 0, 1) != 0;
+        } else if (n == "quality")
+            render->m_output.quality = to_int(n, value, 1, 100);
+        else if (n == "half")
+            render->m_output.half = to_int(n, value, 0, 1) != 0;
+        else if (n == "aovs")
+            job.film.aovs = to_int(n, value, 0, 1) != 0;
+        else if (n == "bdpt_s")
+            job.render.bdpt_s = to_int(n, value, -1, 1000);
+        else if (n == "bdpt_t")
+            job.render.bdpt_t = to_int(n, value, -1, 1000);
+        else if (n == "resume")
+            job.checkpoint.resume = to_int(n, value, 0, 1) != 0;
         return VEACH_ERROR_NONE;
     });
 }
@@ -231,11 +260,11 @@ VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double 
         } else if (n == "exposure") {
             if (std::abs(value) > 64) throw invalid("option 'exposure' must be in [-64, 64] stops");
             render->m_output.display.exposure = static_cast<float>(value);
-        }
-        else if (n == "gamma") {
+        } else if (n == "gamma") {
             if (value < 0.01 || value > 100) throw invalid("option 'gamma' must be in [0.01, 100]");
             render->m_output.display.gamma = static_cast<float>(value);
-        } else throw invalid("option '" + n + "' is read-only");
+        } else
+            throw invalid("option '" + n + "' is read-only");
         return VEACH_ERROR_NONE;
     });
 }
@@ -259,23 +288,32 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
             if (!veach::parse_filter_name(v, &render->m_job.film.filter.type))
                 throw invalid("option 'filter': unknown filter '" + v + "' (known: box, gaussian, blackman-harris)");
         } else if (n == "sampler") {
-            if (v == "sobol") render->m_job.render.sampler = veach::SamplerKind::Sobol;
-            else if (v == "random") render->m_job.render.sampler = veach::SamplerKind::Random;
-            else throw invalid("option 'sampler': expects sobol or random, not '" + v + "'");
-        } else if (n == "display") render->m_output.display.display = v;
-        else if (n == "view") render->m_output.display.view = v;
-        else if (n == "look") render->m_output.display.look = v;
+            if (v == "sobol")
+                render->m_job.render.sampler = veach::SamplerKind::Sobol;
+            else if (v == "random")
+                render->m_job.render.sampler = veach::SamplerKind::Random;
+            else
+                throw invalid("option 'sampler': expects sobol or random, not '" + v + "'");
+        } else if (n == "display")
+            render->m_output.display.display = v;
+        else if (n == "view")
+            render->m_output.display.view = v;
+        else if (n == "look")
+            render->m_output.display.look = v;
         else if (n == "exr_codec") {
             if (!veach::is_exr_codec(v))
-                throw invalid("option 'exr_codec': expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" +
-                              v + "'");
+                throw invalid(
+                    "option 'exr_codec': expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" + v +
+                    "'");
             render->m_output.exr_codec = v;
         } else if (n == "passes") {
             render->m_output.passes = parse_passes(v);
             for (const std::string& p : render->m_output.passes)
                 if (veach::pass_needs_aovs(p)) render->m_job.film.aovs = true;
-        } else if (n == "checkpoint") render->m_job.checkpoint.path = v;
-        else throw invalid("option '" + n + "' is read-only");
+        } else if (n == "checkpoint")
+            render->m_job.checkpoint.path = v;
+        else
+            throw invalid("option '" + n + "' is read-only");
         return VEACH_ERROR_NONE;
     });
 }
@@ -289,27 +327,48 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
         std::lock_guard<std::mutex> lock(render->m_mutex);
         const veach::RenderJobOptions& job = render->m_job;
         const veach::RenderResult* r = render->m_result.get();
-        if (n == "width") *value = job.width > 0 ? job.width : 1920;
-        else if (n == "height") *value = job.height;
-        else if (n == "spp") *value = job.render.spp;
-        else if (n == "seed") *value = static_cast<long long>(job.render.seed);
-        else if (n == "max_depth") *value = job.render.max_depth;
-        else if (n == "threads") *value = job.render.threads;
-        else if (n == "bits") *value = render->m_output.bits;
-        else if (n == "quality") *value = render->m_output.quality;
-        else if (n == "half") *value = render->m_output.half ? 1 : 0;
-        else if (n == "aovs") *value = job.film.aovs ? 1 : 0;
-        else if (n == "result_width") *value = r ? r->image.width : 0;
-        else if (n == "result_height") *value = r ? r->image.height : 0;
-        else if (n == "result_spp") *value = r ? r->stats.spp_done : 0;
-        else if (n == "bdpt_s") *value = job.render.bdpt_s;
-        else if (n == "bdpt_t") *value = job.render.bdpt_t;
-        else if (n == "resume") *value = job.checkpoint.resume ? 1 : 0;
-        else if (n == "result_resumed_spp") *value = r ? r->resumed_spp : 0;
-        else if (n == "result_complete") *value = r && render->m_result_complete ? 1 : 0;
-        else if (n == "result_camera_samples") *value = r ? static_cast<long long>(r->stats.camera_samples) : 0;
-        else if (n == "result_rays") *value = r ? static_cast<long long>(r->stats.rays) : 0;
-        else if (n == "result_nonfinite_samples") *value = r ? static_cast<long long>(r->stats.nonfinite_samples) : 0;
+        if (n == "width")
+            *value = job.width > 0 ? job.width : 1920;
+        else if (n == "height")
+            *value = job.height;
+        else if (n == "spp")
+            *value = job.render.spp;
+        else if (n == "seed")
+            *value = static_cast<long long>(job.render.seed);
+        else if (n == "max_depth")
+            *value = job.render.max_depth;
+        else if (n == "threads")
+            *value = job.render.threads;
+        else if (n == "bits")
+            *value = render->m_output.bits;
+        else if (n == "quality")
+            *value = render->m_output.quality;
+        else if (n == "half")
+            *value = render->m_output.half ? 1 : 0;
+        else if (n == "aovs")
+            *value = job.film.aovs ? 1 : 0;
+        else if (n == "result_width")
+            *value = r ? r->image.width : 0;
+        else if (n == "result_height")
+            *value = r ? r->image.height : 0;
+        else if (n == "result_spp")
+            *value = r ? r->stats.spp_done : 0;
+        else if (n == "bdpt_s")
+            *value = job.render.bdpt_s;
+        else if (n == "bdpt_t")
+            *value = job.render.bdpt_t;
+        else if (n == "resume")
+            *value = job.checkpoint.resume ? 1 : 0;
+        else if (n == "result_resumed_spp")
+            *value = r ? r->resumed_spp : 0;
+        else if (n == "result_complete")
+            *value = r && render->m_result_complete ? 1 : 0;
+        else if (n == "result_camera_samples")
+            *value = r ? static_cast<long long>(r->stats.camera_samples) : 0;
+        else if (n == "result_rays")
+            *value = r ? static_cast<long long>(r->stats.rays) : 0;
+        else if (n == "result_nonfinite_samples")
+            *value = r ? static_cast<long long>(r->stats.nonfinite_samples) : 0;
         return VEACH_ERROR_NONE;
     });
 }
@@ -320,17 +379,26 @@ VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double*
         check_kind(name, OptionKind::Float);
         if (!value) throw invalid("veachGetFloat: null value pointer");
         std::string n = name;
-        if (n == "progress") *value = render->m_progress.load();
-        else if (n == "eta_seconds") *value = render->m_eta.load();
+        if (n == "progress")
+            *value = render->m_progress.load();
+        else if (n == "eta_seconds")
+            *value = render->m_eta.load();
         else {
             std::lock_guard<std::mutex> lock(render->m_mutex);
-            if (n == "time_limit") *value = render->m_job.render.time_limit;
-            else if (n == "exposure") *value = render->m_output.display.exposure;
-            else if (n == "gamma") *value = render->m_output.display.gamma;
-            else if (n == "filter_width") *value = render->m_job.film.filter.width;
-            else if (n == "render_seconds") *value = render->m_result ? render->m_result->render_seconds : 0.0;
-            else if (n == "build_seconds") *value = render->m_result ? render->m_result->build_seconds : 0.0;
-            else if (n == "noise") *value = render->m_job.render.noise_target;
+            if (n == "time_limit")
+                *value = render->m_job.render.time_limit;
+            else if (n == "exposure")
+                *value = render->m_output.display.exposure;
+            else if (n == "gamma")
+                *value = render->m_output.display.gamma;
+            else if (n == "filter_width")
+                *value = render->m_job.film.filter.width;
+            else if (n == "render_seconds")
+                *value = render->m_result ? render->m_result->render_seconds : 0.0;
+            else if (n == "build_seconds")
+                *value = render->m_result ? render->m_result->build_seconds : 0.0;
+            else if (n == "noise")
+                *value = render->m_job.render.noise_target;
             else if (n == "checkpoint_interval")
                 *value = render->m_job.checkpoint.write ? render->m_job.checkpoint.interval_seconds : -1.0;
         }
@@ -348,19 +416,32 @@ VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* 
         const veach::RenderJobOptions& job = render->m_job;
         const veach::OutputSettings& out = render->m_output;
         const veach::RenderResult* r = render->m_result.get();
-        if (n == "integrator") value = job.render.integrator;
-        else if (n == "camera") value = job.camera;
-        else if (n == "filter") value = veach::filter_name(job.film.filter.type);
-        else if (n == "sampler") value = job.render.sampler == veach::SamplerKind::Random ? "random" : "sobol";
-        else if (n == "display") value = out.display.display;
-        else if (n == "view") value = out.display.view;
-        else if (n == "look") value = out.display.look;
-        else if (n == "exr_codec") value = out.exr_codec;
-        else if (n == "passes") value = join(out.passes, ",");
-        else if (n == "checkpoint") value = job.checkpoint.path;
-        else if (n == "result_camera") value = r ? r->camera_name : "";
-        else if (n == "result_integrator") value = r ? r->integrator : "";
-        else if (n == "result_warnings") value = r ? join(r->warnings, "\n") : "";
+        if (n == "integrator")
+            value = job.render.integrator;
+        else if (n == "camera")
+            value = job.camera;
+        else if (n == "filter")
+            value = veach::filter_name(job.film.filter.type);
+        else if (n == "sampler")
+            value = job.render.sampler == veach::SamplerKind::Random ? "random" : "sobol";
+        else if (n == "display")
+            value = out.display.display;
+        else if (n == "view")
+            value = out.display.view;
+        else if (n == "look")
+            value = out.display.look;
+        else if (n == "exr_codec")
+            value = out.exr_codec;
+        else if (n == "passes")
+            value = join(out.passes, ",");
+        else if (n == "checkpoint")
+            value = job.checkpoint.path;
+        else if (n == "result_camera")
+            value = r ? r->camera_name : "";
+        else if (n == "result_integrator")
+            value = r ? r->integrator : "";
+        else if (n == "result_warnings")
+            value = r ? join(r->warnings, "\n") : "";
         veach::capi::copy_string(value, buffer, size, length);
         return VEACH_ERROR_NONE;
     });
@@ -420,8 +501,10 @@ VEACH_API VeachStatus veachWaitRender(VeachRender render, int timeout_ms) {
         check_render(render, "veachWaitRender");
         std::unique_lock<std::mutex> lock(render->m_mutex);
         auto finished = [&] { return render->m_status != VEACH_STATUS_RUNNING; };
-        if (timeout_ms < 0) render->m_finished.wait(lock, finished);
-        else render->m_finished.wait_for(lock, std::chrono::milliseconds(timeout_ms), finished);
+        if (timeout_ms < 0)
+            render->m_finished.wait(lock, finished);
+        else
+            render->m_finished.wait_for(lock, std::chrono::milliseconds(timeout_ms), finished);
         auto status = static_cast<VeachStatus>(render->m_status.load());
         if (status == VEACH_STATUS_FAILED) veach::capi::set_last_error(render->m_failure, render->m_failure_message);
         return status;
@@ -451,12 +534,18 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
         // Every pass leaves as 4 floats per pixel so that one buffer layout serves them all.
         const std::vector<float>* source = nullptr;
         int channels = 4;
-        if (p == "combined" || p == "color") source = &image.rgba;
-        else if (p == "depth") source = &image.depth, channels = 1;
-        else if (p == "normal") source = &image.normal, channels = 3;
-        else if (p == "albedo") source = &image.albedo, channels = 3;
-        else if (p == "variance") source = &image.variance, channels = 3;
-        else throw invalid("veachGetPass: unknown pass '" + p + "' (known: combined, depth, normal, albedo, variance)");
+        if (p == "combined" || p == "color")
+            source = &image.rgba;
+        else if (p == "depth")
+            source = &image.depth, channels = 1;
+        else if (p == "normal")
+            source = &image.normal, channels = 3;
+        else if (p == "albedo")
+            source = &image.albedo, channels = 3;
+        else if (p == "variance")
+            source = &image.variance, channels = 3;
+        else
+            throw invalid("veachGetPass: unknown pass '" + p + "' (known: combined, depth, normal, albedo, variance)");
         const size_t pixels = static_cast<size_t>(image.width) * image.height;
         if (source->size() != pixels * channels)
             throw ApiError{VEACH_ERROR_INVALID_OPERATION,

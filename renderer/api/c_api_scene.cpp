@@ -37,19 +37,18 @@ void check_not_loaded(VeachScene scene, const char* function) {
 }
 
 void check_loaded(VeachScene scene, const char* function) {
-    if (!scene->m_loaded) throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": the scene is not loaded"};
+    if (!scene->m_loaded)
+        throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": the scene is not loaded"};
 }
 
 // The options' names by type (OptionTable, c_api_handles.h).
-const OptionTable k_options{
-    "scene option",
-    {"scene_index", "allow_external_files", "triangles", "cameras", "repaired_invalid_indices",
-     "repaired_nonfinite_triangles", "repaired_degenerate_triangles",
-     "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
-     "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
-    {"env_strength", "env_rotate"},
-    {"variant", "spot_falloff", "env_map", "env_color", "source", "features", "warnings"}
-};
+const OptionTable k_options{"scene option",
+                            {"scene_index", "allow_external_files", "triangles", "cameras", "repaired_invalid_indices",
+                             "repaired_nonfinite_triangles", "repaired_degenerate_triangles",
+                             "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
+                             "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
+                            {"env_strength", "env_rotate"},
+                            {"variant", "spot_falloff", "env_map", "env_color", "source", "features", "warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
@@ -75,9 +74,9 @@ veach::Rgb parse_color(const std::string& v) {
 
 const char* spot_name(veach::SpotProfile p) {
     switch (p) {
-    case veach::SpotProfile::Blender: return "blender";
-    case veach::SpotProfile::Gltf: return "gltf";
-    default: return "auto";
+        case veach::SpotProfile::Blender: return "blender";
+        case veach::SpotProfile::Gltf: return "gltf";
+        default: return "auto";
     }
 }
 
@@ -86,9 +85,8 @@ std::string options_key(const VeachSceneImpl& s) {
     const veach::EnvironmentOptions& env = s.m_environment;
     return "|scene=" + std::to_string(s.m_import.scene_index) + "|variant=" + s.m_import.variant +
            "|spot=" + spot_name(s.m_import.spot_profile) + "|env=" + env.map_path + "|" +
-           std::to_string(env.has_color) + "|" + std::to_string(env.color.r) + "," + std::to_string(env.color.g) +
-           "," + std::to_string(env.color.b) + "|" + std::to_string(env.strength) + "|" +
-           std::to_string(env.rotate_degrees);
+           std::to_string(env.has_color) + "|" + std::to_string(env.color.r) + "," + std::to_string(env.color.g) + "," +
+           std::to_string(env.color.b) + "|" + std::to_string(env.strength) + "|" + std::to_string(env.rotate_degrees);
 }
 
 // What every front end does after importing, so that they all render the same image: the
@@ -255,14 +253,20 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
         std::lock_guard<std::mutex> lock(scene->m_mutex);
         check_not_loaded(scene, "veachSetSceneString");
         veach::EnvironmentOptions& env = scene->m_environment;
-        if (n == "variant") scene->m_import.variant = v;
+        if (n == "variant")
+            scene->m_import.variant = v;
         else if (n == "spot_falloff") {
-            if (v == "auto") scene->m_import.spot_profile = veach::SpotProfile::Auto;
-            else if (v == "blender") scene->m_import.spot_profile = veach::SpotProfile::Blender;
-            else if (v == "gltf") scene->m_import.spot_profile = veach::SpotProfile::Gltf;
-            else throw invalid("scene option 'spot_falloff' expects auto, blender or gltf, not '" + v + "'");
+            if (v == "auto")
+                scene->m_import.spot_profile = veach::SpotProfile::Auto;
+            else if (v == "blender")
+                scene->m_import.spot_profile = veach::SpotProfile::Blender;
+            else if (v == "gltf")
+                scene->m_import.spot_profile = veach::SpotProfile::Gltf;
+            else
+                throw invalid("scene option 'spot_falloff' expects auto, blender or gltf, not '" + v + "'");
         } else if (n == "env_map") {
-            if (!v.empty() && env.has_color) throw invalid("scene options 'env_map' and 'env_color' exclude each other");
+            if (!v.empty() && env.has_color)
+                throw invalid("scene options 'env_map' and 'env_color' exclude each other");
             env.map_path = v;
         } else if (n == "env_color") {
             if (v.empty()) {
@@ -286,24 +290,37 @@ VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long l
         if (!value) throw invalid("veachGetSceneInt: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        if (n == "scene_index") *value = scene->m_import.scene_index;
-        else if (n == "allow_external_files") *value = scene->m_import.allow_external_files ? 1 : 0;
+        if (n == "scene_index")
+            *value = scene->m_import.scene_index;
+        else if (n == "allow_external_files")
+            *value = scene->m_import.allow_external_files ? 1 : 0;
         else {
             check_loaded(scene, "veachGetSceneInt");
             const veach::Scene& s = scene->m_scene;
             const veach::RepairCounts& r = s.repaired;
             auto count = [](uint64_t c) { return static_cast<long long>(c); };
-            if (n == "triangles") *value = count(s.triangle_count());
-            else if (n == "cameras") *value = count(s.cameras.size());
-            else if (n == "repaired_invalid_indices") *value = count(r.invalid_indices);
-            else if (n == "repaired_nonfinite_triangles") *value = count(r.nonfinite_triangles);
-            else if (n == "repaired_degenerate_triangles") *value = count(r.degenerate_triangles);
-            else if (n == "repaired_duplicate_triangles") *value = count(r.duplicate_triangles);
-            else if (n == "repaired_normals_replaced") *value = count(r.normals_replaced);
-            else if (n == "repaired_normals_normalized") *value = count(r.normals_normalized);
-            else if (n == "repaired_uvs_replaced") *value = count(r.uvs_replaced);
-            else if (n == "repaired_colors_replaced") *value = count(r.colors_replaced);
-            else if (n == "repaired_lights_dropped") *value = count(r.lights_dropped);
+            if (n == "triangles")
+                *value = count(s.triangle_count());
+            else if (n == "cameras")
+                *value = count(s.cameras.size());
+            else if (n == "repaired_invalid_indices")
+                *value = count(r.invalid_indices);
+            else if (n == "repaired_nonfinite_triangles")
+                *value = count(r.nonfinite_triangles);
+            else if (n == "repaired_degenerate_triangles")
+                *value = count(r.degenerate_triangles);
+            else if (n == "repaired_duplicate_triangles")
+                *value = count(r.duplicate_triangles);
+            else if (n == "repaired_normals_replaced")
+                *value = count(r.normals_replaced);
+            else if (n == "repaired_normals_normalized")
+                *value = count(r.normals_normalized);
+            else if (n == "repaired_uvs_replaced")
+                *value = count(r.uvs_replaced);
+            else if (n == "repaired_colors_replaced")
+                *value = count(r.colors_replaced);
+            else if (n == "repaired_lights_dropped")
+                *value = count(r.lights_dropped);
         }
         return VEACH_ERROR_NONE;
     });
@@ -316,8 +333,10 @@ VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, doub
         if (!value) throw invalid("veachGetSceneFloat: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        if (n == "env_strength") *value = scene->m_environment.strength;
-        else if (n == "env_rotate") *value = scene->m_environment.rotate_degrees;
+        if (n == "env_strength")
+            *value = scene->m_environment.strength;
+        else if (n == "env_rotate")
+            *value = scene->m_environment.rotate_degrees;
         return VEACH_ERROR_NONE;
     });
 }
@@ -330,13 +349,18 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
         if (!buffer && size > 0) throw invalid("veachGetSceneString: null buffer");
         std::string n = name, value;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        if (n == "variant") value = scene->m_import.variant;
-        else if (n == "spot_falloff") value = spot_name(scene->m_import.spot_profile);
-        else if (n == "env_map") value = scene->m_environment.map_path;
-        else if (n == "env_color") value = scene->m_env_color;
+        if (n == "variant")
+            value = scene->m_import.variant;
+        else if (n == "spot_falloff")
+            value = spot_name(scene->m_import.spot_profile);
+        else if (n == "env_map")
+            value = scene->m_environment.map_path;
+        else if (n == "env_color")
+            value = scene->m_env_color;
         else {
             check_loaded(scene, "veachGetSceneString");
-            if (n == "source") value = scene->m_source;
+            if (n == "source")
+                value = scene->m_source;
             else if (n == "features") {
                 for (const std::string& f : scene->m_scene.features.names()) value += (value.empty() ? "" : "\n") + f;
             } else if (n == "warnings") {

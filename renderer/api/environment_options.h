@@ -10,11 +10,11 @@
 namespace veach {
 
 struct EnvironmentOptions {
-    std::string map_path;       // equirectangular HDR/EXR (anything OpenImageIO reads)
-    bool has_color = false;     // a uniform environment of `color`
+    std::string map_path;    // equirectangular HDR/EXR (anything OpenImageIO reads)
+    bool has_color = false;  // a uniform environment of `color`
     Rgb color{1, 1, 1};
     float strength = 1;
-    float rotate_degrees = 0;   // about +Y, as a Mapping node's Z rotation in Blender's world
+    float rotate_degrees = 0;  // about +Y, as a Mapping node's Z rotation in Blender's world
     bool requested() const { return !map_path.empty() || has_color; }
 };
 

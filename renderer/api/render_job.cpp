@@ -23,8 +23,8 @@ const Camera* select_camera(const Scene& scene, const std::string& spec) {
     std::string known;
     for (size_t i = 0; i < scene.cameras.size(); ++i)
         known += (i ? ", " : "") + std::to_string(i) + " '" + scene.cameras[i].name + "'";
-    throw std::invalid_argument("no camera '" + spec + "' in the scene (cameras: " +
-                                (known.empty() ? std::string("none") : known) + ")");
+    throw std::invalid_argument("no camera '" + spec +
+                                "' in the scene (cameras: " + (known.empty() ? std::string("none") : known) + ")");
 }
 
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control) {
@@ -80,8 +80,8 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
 
 uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {
     const RenderSettings& r = options.render;
-    std::string key = "veach-checkpoint-v1|" + std::to_string(width) + "x" + std::to_string(height) + "|camera=" +
-                      camera_name + "|seed=" + std::to_string(r.seed) + "|integrator=" + r.integrator +
+    std::string key = "veach-checkpoint-v1|" + std::to_string(width) + "x" + std::to_string(height) +
+                      "|camera=" + camera_name + "|seed=" + std::to_string(r.seed) + "|integrator=" + r.integrator +
                       "|max_depth=" + std::to_string(r.max_depth) + "|strategy=" + std::to_string(r.bdpt_s) + "," +
                       std::to_string(r.bdpt_t) + "|filter=" + filter_name(options.film.filter.type) + ":" +
                       std::to_string(options.film.filter.width) + "|aovs=" + (options.film.aovs ? "1" : "0") +
@@ -95,7 +95,8 @@ size_t peak_resident_bytes() {
     std::ifstream f("/proc/self/status");
     std::string line;
     while (std::getline(f, line)) {
-        if (line.rfind("VmHWM:", 0) == 0) return static_cast<size_t>(std::strtoull(line.c_str() + 6, nullptr, 10)) * 1024;
+        if (line.rfind("VmHWM:", 0) == 0)
+            return static_cast<size_t>(std::strtoull(line.c_str() + 6, nullptr, 10)) * 1024;
     }
     return 0;
 }

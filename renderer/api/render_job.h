@@ -26,7 +26,7 @@ struct RenderJobOptions {
     int width = 0;       // 0 = 1920
     int height = 0;      // 0 = from the camera's aspect ratio
     RenderSettings render;
-    FilmSettings film;   // pixel filter and AOV passes
+    FilmSettings film;  // pixel filter and AOV passes
     CheckpointSettings checkpoint;
 };
 
@@ -37,9 +37,9 @@ struct RenderResult {
     double build_seconds = 0;
     double render_seconds = 0;
     size_t triangles = 0;
-    int resumed_spp = 0;  // samples per pixel loaded from a checkpoint
-    std::string integrator;              // the integrator that rendered (see render_scene)
-    std::vector<std::string> warnings;   // said once each, for the front end to print
+    int resumed_spp = 0;                // samples per pixel loaded from a checkpoint
+    std::string integrator;             // the integrator that rendered (see render_scene)
+    std::vector<std::string> warnings;  // said once each, for the front end to print
 };
 
 // Throws std::invalid_argument with a one-line message when `spec` names no camera.

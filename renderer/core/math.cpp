@@ -20,8 +20,7 @@ Transform inverse(const Transform& t) {
     double a[3][3];
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) a[i][j] = t.m[i][j];
-    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-                 a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
                  a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
     Transform r;
     if (det == 0.0 || !std::isfinite(det)) return r;
@@ -66,7 +65,10 @@ Transform rotation_quaternion(float x, float y, float z, float w) {
     float n = std::sqrt(x * x + y * y + z * z + w * w);
     Transform r;
     if (!(n > 0.0f) || !std::isfinite(n)) return r;
-    x /= n; y /= n; z /= n; w /= n;
+    x /= n;
+    y /= n;
+    z /= n;
+    w /= n;
     r.m[0][0] = 1 - 2 * (y * y + z * z);
     r.m[0][1] = 2 * (x * y - z * w);
     r.m[0][2] = 2 * (x * z + y * w);

@@ -28,9 +28,24 @@ struct Vec3 {
     float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
     float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
     Vec3 operator-() const { return {-x, -y, -z}; }
-    Vec3& operator+=(const Vec3& b) { x += b.x; y += b.y; z += b.z; return *this; }
-    Vec3& operator-=(const Vec3& b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
-    Vec3& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+    Vec3& operator+=(const Vec3& b) {
+        x += b.x;
+        y += b.y;
+        z += b.z;
+        return *this;
+    }
+    Vec3& operator-=(const Vec3& b) {
+        x -= b.x;
+        y -= b.y;
+        z -= b.z;
+        return *this;
+    }
+    Vec3& operator*=(float s) {
+        x *= s;
+        y *= s;
+        z *= s;
+        return *this;
+    }
 };
 
 inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
@@ -47,16 +62,10 @@ inline float length_squared(const Vec3& a) { return dot(a, a); }
 inline float length(const Vec3& a) { return std::sqrt(dot(a, a)); }
 inline Vec3 normalize(const Vec3& a) { return a / length(a); }
 inline Vec3 abs(const Vec3& a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
-inline Vec3 min(const Vec3& a, const Vec3& b) {
-    return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
-}
-inline Vec3 max(const Vec3& a, const Vec3& b) {
-    return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
-}
+inline Vec3 min(const Vec3& a, const Vec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
+inline Vec3 max(const Vec3& a, const Vec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
 inline float max_component(const Vec3& a) { return std::max(a.x, std::max(a.y, a.z)); }
-inline bool is_finite(const Vec3& a) {
-    return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-}
+inline bool is_finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 inline Vec3 face_forward(const Vec3& n, const Vec3& v) { return dot(n, v) < 0.0f ? -n : n; }
 
 // An axis-aligned box; empty when lo > hi.
@@ -64,8 +73,14 @@ struct Bounds3 {
     Vec3 lo{k_infinity, k_infinity, k_infinity};
     Vec3 hi{-k_infinity, -k_infinity, -k_infinity};
 
-    void extend(const Vec3& p) { lo = min(lo, p); hi = max(hi, p); }
-    void extend(const Bounds3& b) { lo = min(lo, b.lo); hi = max(hi, b.hi); }
+    void extend(const Vec3& p) {
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    void extend(const Bounds3& b) {
+        lo = min(lo, b.lo);
+        hi = max(hi, b.hi);
+    }
     bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
     Vec3 center() const { return (lo + hi) * 0.5f; }
     Vec3 diagonal() const { return hi - lo; }
@@ -98,14 +113,12 @@ struct Transform {
                 m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
     }
     Vec3 vector(const Vec3& v) const {
-        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-                m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
                 m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
     }
     // Normals transform by the inverse transpose: n' = (M^-1)^T n. Callers pass the inverse.
     Vec3 normal_by_inverse(const Vec3& n) const {
-        return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
-                m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
+        return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z, m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
                 m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
     }
     bool is_identity() const {
@@ -113,8 +126,7 @@ struct Transform {
         return std::memcmp(m, identity.m, sizeof(m)) == 0;
     }
     float determinant() const {
-        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-               m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     }
 };
@@ -135,8 +147,16 @@ inline float smoothstep01(float x) {
     return x * x * (3.0f - 2.0f * x);
 }
 
-inline uint32_t float_bits(float f) { uint32_t u; std::memcpy(&u, &f, 4); return u; }
-inline float bits_float(uint32_t u) { float f; std::memcpy(&f, &u, 4); return f; }
+inline uint32_t float_bits(float f) {
+    uint32_t u;
+    std::memcpy(&u, &f, 4);
+    return u;
+}
+inline float bits_float(uint32_t u) {
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+}
 // The next representable float away from zero in the direction of `dir`'s sign.
 inline float next_float_up(float v) {
     if (std::isinf(v) && v > 0.0f) return v;

@@ -13,9 +13,24 @@ struct Rgb {
     constexpr Rgb() = default;
     constexpr Rgb(float r_, float g_, float b_) : r(r_), g(g_), b(b_) {}
     constexpr explicit Rgb(float v) : r(v), g(v), b(v) {}
-    Rgb& operator+=(const Rgb& o) { r += o.r; g += o.g; b += o.b; return *this; }
-    Rgb& operator*=(const Rgb& o) { r *= o.r; g *= o.g; b *= o.b; return *this; }
-    Rgb& operator*=(float s) { r *= s; g *= s; b *= s; return *this; }
+    Rgb& operator+=(const Rgb& o) {
+        r += o.r;
+        g += o.g;
+        b += o.b;
+        return *this;
+    }
+    Rgb& operator*=(const Rgb& o) {
+        r *= o.r;
+        g *= o.g;
+        b *= o.b;
+        return *this;
+    }
+    Rgb& operator*=(float s) {
+        r *= s;
+        g *= s;
+        b *= s;
+        return *this;
+    }
     bool is_black() const { return r == 0.0f && g == 0.0f && b == 0.0f; }
     // fmax's semantics (a NaN channel is ignored), written out: std::fmax is a libm call unless
     // the compiler may assume no NaNs, and this runs several times per bounce.

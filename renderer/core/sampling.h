@@ -13,7 +13,7 @@ namespace veach {
 Vec3 sample_cosine_hemisphere(float u1, float u2);
 inline float cosine_hemisphere_pdf_w(float cos_theta) { return cos_theta > 0.0f ? cos_theta * k_inv_pi : 0.0f; }
 
-Vec3 sample_uniform_sphere(float u1, float u2);  // pdf_w = 1 / (4 pi)
+Vec3 sample_uniform_sphere(float u1, float u2);   // pdf_w = 1 / (4 pi)
 Vec2 sample_concentric_disk(float u1, float u2);  // unit disk, pdf_a = 1 / pi
 
 // Barycentric coordinates (b1, b2) uniform over a triangle (Heitz 2019 low-distortion map).

@@ -96,7 +96,8 @@ public:
     Sampler(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t sample_index)
         : m_rng(Rng::for_sample(seed, pixel, sample_index)),
           m_key(mix64(seed * 0x9e3779b97f4a7c15ull ^ mix64(pixel + 0x2545f4914f6cdd1dull))),
-          m_index_reversed(reverse_bits(sample_index)), m_pair(kind == SamplerKind::Sobol ? 0 : k_sobol_pairs) {}
+          m_index_reversed(reverse_bits(sample_index)),
+          m_pair(kind == SamplerKind::Sobol ? 0 : k_sobol_pairs) {}
 
     // Two stratified values (one dimension pair):
     //   i = owen_scramble(index, s0)                   the pair's shuffled index
@@ -107,7 +108,8 @@ public:
         uint64_t h = pair_hash();
         uint32_t i = shuffled_index(h);
         uint32_t x = reverse_bits(owen_hash_reversed(i, static_cast<uint32_t>(h >> 32)));
-        uint32_t y = reverse_bits(owen_hash_reversed(sobol_dimension1_reversed(i), static_cast<uint32_t>(mix64(h) >> 32)));
+        uint32_t y =
+            reverse_bits(owen_hash_reversed(sobol_dimension1_reversed(i), static_cast<uint32_t>(mix64(h) >> 32)));
         return {to_unit(x), to_unit(y)};
     }
     // One value; in the stratified range it uses a whole pair (its x) so later pairs stay aligned.

@@ -32,7 +32,8 @@ std::vector<uint32_t> plan_adaptive_samples(const Film& film, double target, int
     const int w = film.width(), h = film.height();
     std::vector<double> need(static_cast<size_t>(w) * h);
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) need[static_cast<size_t>(y) * w + x] = samples_needed(film.pixel_sums(x, y), target);
+        for (int x = 0; x < w; ++x)
+            need[static_cast<size_t>(y) * w + x] = samples_needed(film.pixel_sums(x, y), target);
     std::vector<uint32_t> plan(need.size());
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {

@@ -36,8 +36,8 @@ inline constexpr double k_adaptive_black = 1e-3;
 double adaptive_error_scale(double mu);
 
 // Per-pixel budgets (row-major) from the film's current sums, which must hold the same
-// `pilot_spp` samples in every pixel (the budgets are at least that). target > 0. A pixel without usable neighbours (a 1x1 film, neighbours
-// with fewer than two finite samples) gets UINT32_MAX: it never stops early.
+// `pilot_spp` samples in every pixel (the budgets are at least that). target > 0. A pixel without usable neighbours (a
+// 1x1 film, neighbours with fewer than two finite samples) gets UINT32_MAX: it never stops early.
 std::vector<uint32_t> plan_adaptive_samples(const Film& film, double target, int pilot_spp);
 
 }  // namespace veach

@@ -7,7 +7,10 @@
 namespace veach {
 
 Film::Film(int width, int height, const FilmSettings& settings)
-    : m_width(width), m_height(height), m_settings(settings), m_filter(settings.filter),
+    : m_width(width),
+      m_height(height),
+      m_settings(settings),
+      m_filter(settings.filter),
       m_pixels(static_cast<size_t>(width) * height),
       m_splats(new std::atomic<double>[static_cast<size_t>(width) * height * 3]) {
     for (size_t i = 0; i < static_cast<size_t>(width) * height * 3; ++i) m_splats[i] = 0.0;
@@ -17,8 +20,7 @@ Film::Film(int width, int height, const FilmSettings& settings)
 namespace {
 void atomic_add(std::atomic<double>& a, double v) {
     double old = a.load(std::memory_order_relaxed);
-    while (!a.compare_exchange_weak(old, old + v, std::memory_order_relaxed)) {
-    }
+    while (!a.compare_exchange_weak(old, old + v, std::memory_order_relaxed)) {}
 }
 }  // namespace
 
@@ -114,8 +116,8 @@ Image Film::resolve(double splat_spp) const {
     double pilot_scale = 0.0, splat_scale = splat_spp > 0.0 ? 1.0 / splat_spp : 0.0;
     if (!m_plan.empty() && splat_spp > 0.0) {
         const double pilot = m_plan_pilot_spp, alpha = std::min(1.0, pilot / splat_spp);
-        const double post = static_cast<double>(planned_total(static_cast<uint64_t>(splat_spp))) -
-                            pilot * static_cast<double>(n);
+        const double post =
+            static_cast<double>(planned_total(static_cast<uint64_t>(splat_spp))) - pilot * static_cast<double>(n);
         // No path after the pilot (every pixel stopped there): the pilot's paths alone.
         pilot_scale = post > 0.0 ? alpha / pilot : 1.0 / pilot;
         splat_scale = post > 0.0 ? (1.0 - alpha) * static_cast<double>(n) / post : 0.0;

@@ -144,7 +144,7 @@ private:
     FilmSettings m_settings;
     PixelFilter m_filter;
     std::vector<Pixel> m_pixels;
-    std::vector<AovSums> m_aovs;  // empty unless settings.aovs
+    std::vector<AovSums> m_aovs;                      // empty unless settings.aovs
     std::unique_ptr<std::atomic<double>[]> m_splats;  // 3 per pixel
     std::atomic<bool> m_has_splats{false};
     std::vector<uint32_t> m_plan;        // empty: no adaptive sampling

@@ -16,18 +16,22 @@ constexpr double k_pi = 3.14159265358979323846;
 
 const char* filter_name(FilterType type) {
     switch (type) {
-    case FilterType::box: return "box";
-    case FilterType::gaussian: return "gaussian";
-    case FilterType::blackman_harris: return "blackman-harris";
+        case FilterType::box: return "box";
+        case FilterType::gaussian: return "gaussian";
+        case FilterType::blackman_harris: return "blackman-harris";
     }
     return "box";
 }
 
 bool parse_filter_name(const std::string& name, FilterType* type) {
-    if (name == "box") *type = FilterType::box;
-    else if (name == "gaussian") *type = FilterType::gaussian;
-    else if (name == "blackman-harris" || name == "blackman_harris") *type = FilterType::blackman_harris;
-    else return false;
+    if (name == "box")
+        *type = FilterType::box;
+    else if (name == "gaussian")
+        *type = FilterType::gaussian;
+    else if (name == "blackman-harris" || name == "blackman_harris")
+        *type = FilterType::blackman_harris;
+    else
+        return false;
     return true;
 }
 
@@ -36,9 +40,9 @@ float PixelFilter::support_width(FilterType type, float width) {
     // (6 sigma) and Blackman-Harris to 2 widths, so that at equal width the filters blur about
     // equally. Matching that keeps our images as soft as Blender's at the same setting.
     switch (type) {
-    case FilterType::box: return width;
-    case FilterType::gaussian: return 3.0f * width;
-    case FilterType::blackman_harris: return 2.0f * width;
+        case FilterType::box: return width;
+        case FilterType::gaussian: return 3.0f * width;
+        case FilterType::blackman_harris: return 2.0f * width;
     }
     return width;
 }
@@ -47,18 +51,18 @@ double PixelFilter::profile(FilterType type, float width, double offset) {
     const double support = support_width(type, width);
     if (std::fabs(offset) > 0.5 * support) return 0.0;
     switch (type) {
-    case FilterType::box: return 1.0;
-    case FilterType::gaussian: {
-        // sigma = width / 4: exp(-x^2 / (2 sigma^2)) = exp(-8 x^2 / width^2), cut at 6 sigma.
-        const double v = offset / width;
-        return std::exp(-8.0 * v * v);
-    }
-    case FilterType::blackman_harris: {
-        // The 4-term Blackman-Harris window (Harris 1978, "On the use of windows for harmonic
-        // analysis with the DFT", eq. 33 coefficients), spanning the support with its peak at 0.
-        const double x = 2.0 * k_pi * (offset / support + 0.5);
-        return 0.35875 - 0.48829 * std::cos(x) + 0.14128 * std::cos(2.0 * x) - 0.01168 * std::cos(3.0 * x);
-    }
+        case FilterType::box: return 1.0;
+        case FilterType::gaussian: {
+            // sigma = width / 4: exp(-x^2 / (2 sigma^2)) = exp(-8 x^2 / width^2), cut at 6 sigma.
+            const double v = offset / width;
+            return std::exp(-8.0 * v * v);
+        }
+        case FilterType::blackman_harris: {
+            // The 4-term Blackman-Harris window (Harris 1978, "On the use of windows for harmonic
+            // analysis with the DFT", eq. 33 coefficients), spanning the support with its peak at 0.
+            const double x = 2.0 * k_pi * (offset / support + 0.5);
+            return 0.35875 - 0.48829 * std::cos(x) + 0.14128 * std::cos(2.0 * x) - 0.01168 * std::cos(3.0 * x);
+        }
     }
     return 0.0;
 }

@@ -18,12 +18,12 @@ namespace veach {
 
 struct RenderSettings {
     int spp = 64;
-    double time_limit = 0;   // seconds, 0 = none: stop at whichever of spp and time comes first
+    double time_limit = 0;  // seconds, 0 = none: stop at whichever of spp and time comes first
     uint64_t seed = 0;
-    int max_depth = 64;      // maximum number of scattering events on a path
-    int threads = 0;         // 0 = all cores
-    std::string integrator = "bdpt";  // bdpt, pt or lt
-    int bdpt_s = -1, bdpt_t = -1;      // bdpt: render only strategy (s, t), unweighted
+    int max_depth = 64;                        // maximum number of scattering events on a path
+    int threads = 0;                           // 0 = all cores
+    std::string integrator = "bdpt";           // bdpt, pt or lt
+    int bdpt_s = -1, bdpt_t = -1;              // bdpt: render only strategy (s, t), unweighted
     SamplerKind sampler = SamplerKind::Sobol;  // Owen-scrambled Sobol pairs, or independent
     // Adaptive sampling (film/adaptive_sampling.h): 0 = off; else the relative error at which a
     // pixel stops taking samples (spp stays the most any pixel takes). After a pilot of min_spp
@@ -51,8 +51,8 @@ struct RenderStats {
     uint64_t camera_samples = 0;
     uint64_t rays = 0;
     uint64_t nonfinite_samples = 0;
-    int spp_done = 0;       // samples per pixel completed in every pixel (adaptive: or its budget)
-    double mean_spp = 0;    // camera samples per pixel actually taken, averaged over the image
+    int spp_done = 0;     // samples per pixel completed in every pixel (adaptive: or its budget)
+    double mean_spp = 0;  // camera samples per pixel actually taken, averaged over the image
     double seconds = 0;
     bool cancelled = false;
 };
@@ -72,8 +72,8 @@ public:
     virtual ~Integrator() = default;
     // Renders samples [sample_begin, sample_end) of every pixel in `tile` into the film. With
     // adaptive sampling the driver passes one-row runs of pixels that share a sample range.
-    virtual void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin,
-                             uint32_t sample_end, Film& film, ThreadStats& stats) const = 0;
+    virtual void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
+                             Film& film, ThreadStats& stats) const = 0;
 };
 
 // Throws std::invalid_argument for an unknown name.

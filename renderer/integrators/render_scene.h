@@ -14,8 +14,7 @@ namespace veach {
 class RenderScene {
 public:
     RenderScene(const Scene& scene, const Camera* camera, int width, int height)
-        : m_scene(scene), m_accel(scene), m_lights(scene, m_accel),
-          m_camera(camera, scene.bounds(), width, height) {
+        : m_scene(scene), m_accel(scene), m_lights(scene, m_accel), m_camera(camera, scene.bounds(), width, height) {
         m_world_to_object.reserve(scene.instances.size());
         for (const Instance& inst : scene.instances) m_world_to_object.push_back(inverse(inst.object_to_world));
     }

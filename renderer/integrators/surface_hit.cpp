@@ -159,8 +159,10 @@ Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_error, const Vec3& ng, const
     Vec3 po = p + offset;
     // Round away from p so the offset survives the addition's rounding.
     for (int i = 0; i < 3; ++i) {
-        if (offset[i] > 0.0f) po[i] = next_float_up(po[i]);
-        else if (offset[i] < 0.0f) po[i] = next_float_down(po[i]);
+        if (offset[i] > 0.0f)
+            po[i] = next_float_up(po[i]);
+        else if (offset[i] < 0.0f)
+            po[i] = next_float_down(po[i]);
     }
     return po;
 }

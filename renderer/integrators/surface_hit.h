@@ -11,11 +11,11 @@
 namespace veach {
 
 struct SurfaceHit {
-    Vec3 p;          // world position, from barycentrics of the world-space vertices
-    Vec3 p_error;    // per-axis bound on |p - true p|
-    Vec3 ng;         // unit geometric normal (from the winding; not flipped toward the ray)
-    Vec3 ns;         // unit shading normal, on the same side as ng
-    Vec3 ns_coat;    // the clearcoat's shading normal (KHR_materials_clearcoat), same side; zero: ns
+    Vec3 p;        // world position, from barycentrics of the world-space vertices
+    Vec3 p_error;  // per-axis bound on |p - true p|
+    Vec3 ng;       // unit geometric normal (from the winding; not flipped toward the ray)
+    Vec3 ns;       // unit shading normal, on the same side as ng
+    Vec3 ns_coat;  // the clearcoat's shading normal (KHR_materials_clearcoat), same side; zero: ns
     SurfaceAttributes attr;
     const Material* material = nullptr;
     uint32_t instance = 0, prim = 0;

@@ -12,12 +12,12 @@ namespace veach {
 // texels: 9/16 centre, 3/32 edges, 1/64 corners), so every direction with radiance has density.
 struct EnvironmentLight::Table {
     int width = 0, height = 0;
-    const float* rgb = nullptr;   // the Scene's texels (width * height * 3), not copied: maps are big
+    const float* rgb = nullptr;  // the Scene's texels (width * height * 3), not copied: maps are big
     float strength = 1;
-    std::vector<float> weight;    // per cell: average radiance x sin(theta at the row centre)
-    std::vector<float> cond_cdf;  // per row: width + 1 entries, normalised
-    std::vector<double> marg_cdf; // height + 1 entries, normalised
-    double total = 0;             // sum of weights
+    std::vector<float> weight;     // per cell: average radiance x sin(theta at the row centre)
+    std::vector<float> cond_cdf;   // per row: width + 1 entries, normalised
+    std::vector<double> marg_cdf;  // height + 1 entries, normalised
+    double total = 0;              // sum of weights
 
     // Radiance of texel (x, y): u wraps around, v clamps at the poles; negative or NaN texels
     // emit nothing.

@@ -37,7 +37,7 @@ private:
     Vec3 to_local(const Vec3& w) const;
     Vec3 to_world(const Vec3& l) const;
 
-    Rgb m_uniform;             // strength x colour when there is no map
+    Rgb m_uniform;  // strength x colour when there is no map
     float m_cos_rot = 1, m_sin_rot = 0;
     float m_integral = 0;
     std::shared_ptr<const Table> m_table;

@@ -55,32 +55,32 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
     }
     for (const PunctualLight& pl : scene.lights) {
         switch (pl.type) {
-        case LightType::Point: {
-            PointLightData d{pl.position, pl.intensity};
-            power.push_back(4.0f * k_pi * pl.intensity.average());
-            m_lights.emplace_back(d);
-            break;
-        }
-        case LightType::Spot: {
-            SpotLightData d;
-            d.position = pl.position;
-            d.axis = normalize(pl.direction);
-            d.intensity = pl.intensity;
-            d.cos_outer = pl.cos_outer;
-            d.cos_inner = pl.cos_inner;
-            d.smooth = (1.0f - pl.cos_outer) * pl.blend;
-            d.falloff = pl.falloff;
-            // The cone's solid angle bounds the emitted power.
-            power.push_back(2.0f * k_pi * (1.0f - pl.cos_outer) * pl.intensity.average());
-            m_lights.emplace_back(d);
-            break;
-        }
-        case LightType::Directional: {
-            DirectionalLightData d{normalize(pl.direction), pl.intensity};
-            power.push_back(k_pi * m_scene_radius * m_scene_radius * pl.intensity.average());
-            m_lights.emplace_back(d);
-            break;
-        }
+            case LightType::Point: {
+                PointLightData d{pl.position, pl.intensity};
+                power.push_back(4.0f * k_pi * pl.intensity.average());
+                m_lights.emplace_back(d);
+                break;
+            }
+            case LightType::Spot: {
+                SpotLightData d;
+                d.position = pl.position;
+                d.axis = normalize(pl.direction);
+                d.intensity = pl.intensity;
+                d.cos_outer = pl.cos_outer;
+                d.cos_inner = pl.cos_inner;
+                d.smooth = (1.0f - pl.cos_outer) * pl.blend;
+                d.falloff = pl.falloff;
+                // The cone's solid angle bounds the emitted power.
+                power.push_back(2.0f * k_pi * (1.0f - pl.cos_outer) * pl.intensity.average());
+                m_lights.emplace_back(d);
+                break;
+            }
+            case LightType::Directional: {
+                DirectionalLightData d{normalize(pl.direction), pl.intensity};
+                power.push_back(k_pi * m_scene_radius * m_scene_radius * pl.intensity.average());
+                m_lights.emplace_back(d);
+                break;
+            }
         }
     }
     if (scene.environment.enabled) {
@@ -213,7 +213,8 @@ float triangle_dir_pdf(const TriangleLight& tl, const Vec3& dir) {
 }  // namespace
 
 bool LightSet::is_delta_position(size_t light) const {
-    return std::holds_alternative<PointLightData>(m_lights[light]) || std::holds_alternative<SpotLightData>(m_lights[light]);
+    return std::holds_alternative<PointLightData>(m_lights[light]) ||
+           std::holds_alternative<SpotLightData>(m_lights[light]);
 }
 
 bool LightSet::sample_emission(float u_select, float u1, float u2, float u3, float u4, LightEmission* out) const {

@@ -18,8 +18,8 @@ class Accel;
 
 struct TriangleLight {
     uint32_t instance = 0, prim = 0;
-    Vec3 p0, e1, e2;        // world: p = p0 + b1 e1 + b2 e2
-    Vec3 n;                 // unit normal from the winding
+    Vec3 p0, e1, e2;  // world: p = p0 + b1 e1 + b2 e2
+    Vec3 n;           // unit normal from the winding
     float area = 0;
     bool two_sided = false;
     bool textured = false;  // radiance varies over the triangle (emissive texture)
@@ -42,8 +42,8 @@ struct SpotLightData {
 };
 
 struct DirectionalLightData {
-    Vec3 direction;   // unit, the direction light travels
-    Rgb irradiance;   // W/m^2 on a surface facing it
+    Vec3 direction;  // unit, the direction light travels
+    Rgb irradiance;  // W/m^2 on a surface facing it
 };
 
 using LightVariant = std::variant<TriangleLight, PointLightData, SpotLightData, DirectionalLightData, EnvironmentLight>;
@@ -64,14 +64,14 @@ struct LightSample {
 // A particle leaving a light, for light subpaths. Densities are those of this light alone;
 // multiply by selection_pmf for the choice of the light.
 struct LightEmission {
-    Vec3 point;             // on the light; for directional and environment lights on a disc
-                            // of the scene's bounding radius outside the scene
-    Vec3 normal;            // surface normal of an area light on the emitting side, else zero
-    Vec3 dir;               // unit, the direction the particle travels
-    Rgb value;              // area, environment: radiance; point/spot: intensity x falloff;
-                            // directional: irradiance
-    float pdf_pos_a = 1;    // area density of the point (1 for point and spot: a delta)
-    float pdf_dir_w = 1;    // solid-angle density of dir (1 for directional: a delta)
+    Vec3 point;           // on the light; for directional and environment lights on a disc
+                          // of the scene's bounding radius outside the scene
+    Vec3 normal;          // surface normal of an area light on the emitting side, else zero
+    Vec3 dir;             // unit, the direction the particle travels
+    Rgb value;            // area, environment: radiance; point/spot: intensity x falloff;
+                          // directional: irradiance
+    float pdf_pos_a = 1;  // area density of the point (1 for point and spot: a delta)
+    float pdf_dir_w = 1;  // solid-angle density of dir (1 for directional: a delta)
     bool delta_position = false;
     bool delta_direction = false;
     uint32_t light = 0;

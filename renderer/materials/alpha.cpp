@@ -4,8 +4,7 @@
 
 namespace veach {
 
-float surface_alpha(const Scene& scene, const Mesh& mesh, const Material& material, uint32_t prim, float b1,
-                    float b2) {
+float surface_alpha(const Scene& scene, const Mesh& mesh, const Material& material, uint32_t prim, float b1, float b2) {
     float alpha = material.base_alpha;
     const uint32_t* idx = &mesh.indices[static_cast<size_t>(prim) * 3];
     float b0 = 1.0f - b1 - b2;
@@ -18,7 +17,8 @@ float surface_alpha(const Scene& scene, const Mesh& mesh, const Material& materi
         if (!uv.empty())
             st = {b0 * uv[idx[0]].x + b1 * uv[idx[1]].x + b2 * uv[idx[2]].x,
                   b0 * uv[idx[0]].y + b1 * uv[idx[1]].y + b2 * uv[idx[2]].y};
-        alpha *= sample_texture(scene.textures[static_cast<size_t>(ref.texture)], apply_uv_transform(ref.transform, st)).a;
+        alpha *=
+            sample_texture(scene.textures[static_cast<size_t>(ref.texture)], apply_uv_transform(ref.transform, st)).a;
     }
     return alpha;
 }

@@ -16,20 +16,16 @@ inline bool needs_alpha_test(const Material& m) { return m.alpha_mode != AlphaMo
 
 // baseColorFactor.a x baseColorTexture.a x COLOR_0.a at barycentrics (b1, b2) of triangle
 // `prim` of `mesh`, as the spec multiplies them.
-float surface_alpha(const Scene& scene, const Mesh& mesh, const Material& material, uint32_t prim, float b1,
-                    float b2);
+float surface_alpha(const Scene& scene, const Mesh& mesh, const Material& material, uint32_t prim, float b1, float b2);
 
 // Whether a hit with coverage `alpha` counts. `u` in [0, 1) decides BLEND: the hit counts when
 // u < alpha.
 inline bool alpha_accepts(const Material& m, float alpha, float u) {
     switch (m.alpha_mode) {
-    case AlphaMode::Mask:
-        return alpha >= m.alpha_cutoff;
-    case AlphaMode::Blend:
-        return u < alpha;
-    case AlphaMode::Opaque:
-    default:
-        return true;
+        case AlphaMode::Mask: return alpha >= m.alpha_cutoff;
+        case AlphaMode::Blend: return u < alpha;
+        case AlphaMode::Opaque:
+        default: return true;
     }
 }
 

@@ -26,8 +26,8 @@
 namespace veach {
 
 struct GgxAlbedo {
-    float e = 1;     // integral of D G2 / (4 mu_o mu_i) * mu_i over the hemisphere (F = 1)
-    float e_w = 0;   // the same weighted by Schlick's (1 - wo.h)^5
+    float e = 1;    // integral of D G2 / (4 mu_o mu_i) * mu_i over the hemisphere (F = 1)
+    float e_w = 0;  // the same weighted by Schlick's (1 - wo.h)^5
 };
 
 // Directional albedos at mu = cos(theta_o), bilinearly interpolated in (mu, sqrt(alpha)).

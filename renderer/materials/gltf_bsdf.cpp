@@ -23,8 +23,8 @@ GltfBsdf::GltfBsdf(const ShadingInputs& in, float eta)
     m_w_trans = (1.0f - metallic) * t;
     m_delta = m_alpha < k_delta_alpha;
     m_coat = clamp(in.clearcoat, 0.0f, 1.0f);
-    m_sheen_color = Rgb(std::max(0.0f, in.sheen_color.r), std::max(0.0f, in.sheen_color.g),
-                        std::max(0.0f, in.sheen_color.b));
+    m_sheen_color =
+        Rgb(std::max(0.0f, in.sheen_color.r), std::max(0.0f, in.sheen_color.g), std::max(0.0f, in.sheen_color.b));
     m_sheen_max = std::min(1.0f, m_sheen_color.max());
     // No metal, no transmission, a specular layer with F0 = F90 = 0 (which reflects nothing at
     // any angle, nor loses anything to multiple scattering: E_spec = 0), no coat, no sheen: the
@@ -119,9 +119,9 @@ GltfBsdf::LobeProbabilities GltfBsdf::probabilities(float mu_o, const Outgoing& 
     Rgb metal_single = m_delta ? m_metal.fresnel(mu_o) : m_metal.single_scattering_albedo(e_o);
     Rgb spec_single = m_delta ? m_specular.fresnel(mu_o) : m_specular.single_scattering_albedo(e_o);
     p.spec = m_w_metal * metal_single.average() + m_w_opaque * spec_single.average();
-    p.cosine = m_w_metal * m_metal.multiple_scattering_albedo(e_o).average() +
-               m_w_opaque * (m_specular.multiple_scattering_albedo(e_o).average() +
-                             (m_base * o.diffuse_factor).average());
+    p.cosine =
+        m_w_metal * m_metal.multiple_scattering_albedo(e_o).average() +
+        m_w_opaque * (m_specular.multiple_scattering_albedo(e_o).average() + (m_base * o.diffuse_factor).average());
     p.trans = m_w_trans;
     // The layers on top: everything beneath is dimmed by them, the sheen is sampled by the
     // cosine lobe, the coat by its own visible normals.
@@ -272,12 +272,12 @@ float GltfBsdf::pdf_w(const Vec3& wo, const Vec3& wi) const {
     if (m_lambert) return same_side(wo, wi) ? std::fabs(wi.z) * k_inv_pi : 0.0f;
     Outgoing scratch;
     if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta, outgoing_at(wo, false, &scratch));
-    if (wo.z < 0.0f) return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, outgoing_at(mirror_z(wo), true, &scratch));
+    if (wo.z < 0.0f)
+        return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, outgoing_at(mirror_z(wo), true, &scratch));
     return 0.0f;
 }
 
-bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfSample* out,
-                      TransportMode mode) const {
+bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfSample* out, TransportMode mode) const {
     if (wo_in.z == 0.0f) return false;
     bool flipped = wo_in.z < 0.0f;
     if (m_lambert) {
@@ -339,7 +339,8 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
                 if (!refract(wo, Vec3(0, 0, 1), eta, &wi)) return false;
                 float scale = mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
                 // f cos / pdf = w_trans (1 - F) base scale / (p_trans (1 - F)), dimmed by the layers.
-                out->weight = m_base * (m_w_trans * scale * base_scale(o, -wi.z, std::max(0.0f, -coat_cos(wi, o))) / p.trans);
+                out->weight =
+                    m_base * (m_w_trans * scale * base_scale(o, -wi.z, std::max(0.0f, -coat_cos(wi, o))) / p.trans);
                 out->pdf_w = p.trans * (1.0f - fr);
                 out->wi = wi;
                 out->delta = true;

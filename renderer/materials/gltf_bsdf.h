@@ -59,7 +59,7 @@ namespace veach {
 // pdf_w is the discrete probability of choosing that event and weight already folds f cos / pdf.
 struct BsdfSample {
     Vec3 wi;
-    Rgb weight;      // f |cos| / pdf (times the adjoint correction in importance mode)
+    Rgb weight;  // f |cos| / pdf (times the adjoint correction in importance mode)
     float pdf_w = 0;
     bool delta = false;
 };
@@ -110,15 +110,15 @@ private:
     // What depends on wo only through mu_o (wo mirrored above the frame), or through wo and the
     // side with a tilted coat.
     struct Outgoing {
-        Vec3 w{0.0f, 0.0f, -1.0f}; // wo mirrored above the frame; z < 0: nothing cached yet
-        bool flipped = false;      // wo was below the frame
-        float mu = -1.0f;          // w.z
-        float mu_c = -1.0f;        // w.cn: the coat's cosine
-        Frame coat_frame;          // the coat's frame in the (mirrored) frame: n = cn
-        GgxAlbedo e;               // ggx_albedo(mu, alpha)
-        GgxAlbedo e_coat;          // ggx_albedo(mu, coat alpha), rough coats only
-        Rgb diffuse_factor{1.0f};  // 1 - E_spec(mu)
-        float coat = 0, sheen = 0; // coat_albedo(mu), sheen_albedo_max(mu)
+        Vec3 w{0.0f, 0.0f, -1.0f};  // wo mirrored above the frame; z < 0: nothing cached yet
+        bool flipped = false;       // wo was below the frame
+        float mu = -1.0f;           // w.z
+        float mu_c = -1.0f;         // w.cn: the coat's cosine
+        Frame coat_frame;           // the coat's frame in the (mirrored) frame: n = cn
+        GgxAlbedo e;                // ggx_albedo(mu, alpha)
+        GgxAlbedo e_coat;           // ggx_albedo(mu, coat alpha), rough coats only
+        Rgb diffuse_factor{1.0f};   // 1 - E_spec(mu)
+        float coat = 0, sheen = 0;  // coat_albedo(mu), sheen_albedo_max(mu)
         LobeProbabilities p;
     };
     static Vec3 upper(const Vec3& w) { return {w.x, w.y, std::fabs(w.z)}; }
@@ -145,8 +145,8 @@ private:
                   const Outgoing& o) const;  // beneath the layers
     float pdf_upper(const Vec3& wo, const Vec3& wi, float eta, const Outgoing& o) const;
     Rgb diffuse_albedo_factor(const GgxAlbedo& e) const;  // 1 - E_spec(mu), per channel
-    float coat_albedo(float mu) const;                     // c E_c(mu)
-    float sheen_albedo_max(float mu) const;                // max(sheenColor) E_sheen(mu)
+    float coat_albedo(float mu) const;                    // c E_c(mu)
+    float sheen_albedo_max(float mu) const;               // max(sheenColor) E_sheen(mu)
     // The scaling of everything beneath the coat and the sheen for the pair (mu_o, mu_i).
     float base_scale(const Outgoing& o, float mu_i, float mu_i_coat) const;
     // The smooth mirror direction, produced by every delta reflection lobe together.

@@ -13,7 +13,6 @@ Rgba lookup_texture(const TextureRef& ref, const Scene& scene, const SurfaceAttr
     return sample_texture(tex, apply_uv_transform(ref.transform, attr.uv[set]), footprint);
 }
 
-
 Rgb evaluate_emission(const Material& m, const Scene& scene, const SurfaceAttributes& attr) {
     Rgb e = m.emission;
     if (m.emissive_texture.valid() && !e.is_black()) {
@@ -69,7 +68,8 @@ ShadingInputs evaluate_material(const Material& m, const Scene& scene, const Sur
     s.ior = std::isfinite(m.ior) && m.ior > 0.0f ? m.ior : 1.5f;
 
     float clearcoat = m.clearcoat, clearcoat_roughness = m.clearcoat_roughness;
-    if (clearcoat > 0.0f && m.clearcoat_texture.valid()) clearcoat *= lookup_texture(m.clearcoat_texture, scene, attr).r;
+    if (clearcoat > 0.0f && m.clearcoat_texture.valid())
+        clearcoat *= lookup_texture(m.clearcoat_texture, scene, attr).r;
     if (clearcoat > 0.0f && m.clearcoat_roughness_texture.valid())
         clearcoat_roughness *= lookup_texture(m.clearcoat_roughness_texture, scene, attr).g;
     s.clearcoat = clamp(clearcoat, 0.0f, 1.0f);
@@ -77,7 +77,8 @@ ShadingInputs evaluate_material(const Material& m, const Scene& scene, const Sur
     s.clearcoat_alpha = std::max(clearcoat_roughness * clearcoat_roughness, k_min_ggx_alpha);
     Rgb sheen = m.sheen_color;
     float sheen_roughness = m.sheen_roughness;
-    if (!sheen.is_black() && m.sheen_color_texture.valid()) sheen *= lookup_texture(m.sheen_color_texture, scene, attr).rgb();
+    if (!sheen.is_black() && m.sheen_color_texture.valid())
+        sheen *= lookup_texture(m.sheen_color_texture, scene, attr).rgb();
     if (!sheen.is_black() && m.sheen_roughness_texture.valid())
         sheen_roughness *= lookup_texture(m.sheen_roughness_texture, scene, attr).a;
     s.sheen_color = sheen;

@@ -16,14 +16,14 @@ struct ShadingInputs {
     Rgb base_color{1, 1, 1};
     float opacity = 1;
     float metallic = 0;
-    float alpha = 1;           // GGX alpha = roughness^2
+    float alpha = 1;  // GGX alpha = roughness^2
     Rgb dielectric_f0{0.04f, 0.04f, 0.04f};
     float dielectric_f90 = 1;
-    float transmission = 0;    // KHR_materials_transmission
-    float ior = 1.5f;          // KHR_materials_ior: the relative index of a transmissive interior
-    float clearcoat = 0;       // KHR_materials_clearcoat factor
-    float clearcoat_alpha = 0; // its GGX alpha = clearcoat roughness^2
-    Rgb sheen_color{0, 0, 0};  // KHR_materials_sheen
+    float transmission = 0;     // KHR_materials_transmission
+    float ior = 1.5f;           // KHR_materials_ior: the relative index of a transmissive interior
+    float clearcoat = 0;        // KHR_materials_clearcoat factor
+    float clearcoat_alpha = 0;  // its GGX alpha = clearcoat roughness^2
+    Rgb sheen_color{0, 0, 0};   // KHR_materials_sheen
     float sheen_roughness = 0;
     Rgb emission;
 };

@@ -38,7 +38,7 @@ std::array<float, k_n * k_n> compute() {
 }  // namespace
 
 float sheen_albedo(float mu, float roughness) {
-    static const std::array<float, k_n * k_n> table = compute();
+    static const std::array<float, k_n* k_n> table = compute();
     float y = clamp((roughness - k_min_sheen_roughness) / (1.0f - k_min_sheen_roughness), 0.0f, 1.0f) * (k_n - 1);
     int j = std::min(static_cast<int>(y), k_n - 2);
     float fj = y - j;

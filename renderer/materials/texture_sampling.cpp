@@ -28,19 +28,18 @@ namespace {
 
 int wrap_index(int i, int n, WrapMode mode) {
     switch (mode) {
-    case WrapMode::ClampToEdge:
-        return i < 0 ? 0 : (i >= n ? n - 1 : i);
-    case WrapMode::MirroredRepeat: {
-        int period = 2 * n;
-        int m = i % period;
-        if (m < 0) m += period;
-        return m < n ? m : period - 1 - m;
-    }
-    case WrapMode::Repeat:
-    default: {
-        int m = i % n;
-        return m < 0 ? m + n : m;
-    }
+        case WrapMode::ClampToEdge: return i < 0 ? 0 : (i >= n ? n - 1 : i);
+        case WrapMode::MirroredRepeat: {
+            int period = 2 * n;
+            int m = i % period;
+            if (m < 0) m += period;
+            return m < n ? m : period - 1 - m;
+        }
+        case WrapMode::Repeat:
+        default: {
+            int m = i % n;
+            return m < 0 ? m + n : m;
+        }
     }
 }
 

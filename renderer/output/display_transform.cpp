@@ -121,8 +121,7 @@ std::vector<std::string> displays_of(const OCIO::Config& config) {
 
 std::vector<std::string> views_of(const OCIO::Config& config, const std::string& display) {
     std::vector<std::string> out;
-    for (int i = 0; i < config.getNumViews(display.c_str()); ++i)
-        out.emplace_back(config.getView(display.c_str(), i));
+    for (int i = 0; i < config.getNumViews(display.c_str()); ++i) out.emplace_back(config.getView(display.c_str(), i));
     return out;
 }
 
@@ -151,8 +150,7 @@ void check_looks(const OCIO::Config& config, const std::string& looks, const std
         std::string name = token.substr(first, last - first + 1);
         if (name[0] == '+' || name[0] == '-') name.erase(0, 1);
         if (!contains(known, name))
-            throw OutputError("unknown look '" + name + "' in colour config " + source +
-                              "; looks: " + join(known));
+            throw OutputError("unknown look '" + name + "' in colour config " + source + "; looks: " + join(known));
     }
 }
 
@@ -163,10 +161,8 @@ struct DisplayTransform::Impl {
 };
 
 DisplayTransform::DisplayTransform(const DisplaySettings& settings) : m_impl(std::make_unique<Impl>()) {
-    if (!std::isfinite(settings.exposure))
-        throw OutputError("display exposure must be finite");
-    if (!(settings.gamma > 0) || !std::isfinite(settings.gamma))
-        throw OutputError("display gamma must be positive");
+    if (!std::isfinite(settings.exposure)) throw OutputError("display exposure must be finite");
+    if (!(settings.gamma > 0) || !std::isfinite(settings.gamma)) throw OutputError("display gamma must be positive");
 
     LoadedConfig loaded = load_config();
     const OCIO::Config& config = *loaded.config;
@@ -214,13 +210,12 @@ DisplayTransform::DisplayTransform(const DisplaySettings& settings) : m_impl(std
         }
         OCIO::ConstProcessorRcPtr processor = pipeline->getProcessor(loaded.config);
         // The default optimisation approximates pow/log; 16-bit output deserves the exact curve.
-        const auto optimization = static_cast<OCIO::OptimizationFlags>(
-            OCIO::OPTIMIZATION_DEFAULT & ~OCIO::OPTIMIZATION_FAST_LOG_EXP_POW);
-        m_impl->cpu = processor->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
-                                                          optimization);
+        const auto optimization =
+            static_cast<OCIO::OptimizationFlags>(OCIO::OPTIMIZATION_DEFAULT & ~OCIO::OPTIMIZATION_FAST_LOG_EXP_POW);
+        m_impl->cpu = processor->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32, optimization);
     } catch (const OCIO::Exception& e) {
-        throw OutputError("colour config " + loaded.source + ", display '" + display + "', view '" +
-                          view + "': " + one_line(e.what()));
+        throw OutputError("colour config " + loaded.source + ", display '" + display + "', view '" + view +
+                          "': " + one_line(e.what()));
     }
 }
 
@@ -259,8 +254,7 @@ ColorConfigInfo describe_color_config() {
     ColorConfigInfo info;
     info.source = loaded.source;
     info.displays = displays_of(config);
-    for (const std::string& display : info.displays)
-        info.views.emplace_back(display, views_of(config, display));
+    for (const std::string& display : info.displays) info.views.emplace_back(display, views_of(config, display));
     info.looks = looks_of(config);
     return info;
 }

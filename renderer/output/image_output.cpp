@@ -40,12 +40,18 @@ std::string lower(std::string s) {
 
 bool format_of(const std::string& path, FormatInfo& info) {
     const std::string ext = lower(fs::path(path).extension().string());
-    if (ext == ".exr") info = {Format::exr, "openexr", "EXR"};
-    else if (ext == ".hdr") info = {Format::hdr, "hdr", "HDR"};
-    else if (ext == ".png") info = {Format::png, "png", "PNG"};
-    else if (ext == ".jpg" || ext == ".jpeg") info = {Format::jpeg, "jpeg", "JPEG"};
-    else if (ext == ".tif" || ext == ".tiff") info = {Format::tiff, "tiff", "TIFF"};
-    else return false;
+    if (ext == ".exr")
+        info = {Format::exr, "openexr", "EXR"};
+    else if (ext == ".hdr")
+        info = {Format::hdr, "hdr", "HDR"};
+    else if (ext == ".png")
+        info = {Format::png, "png", "PNG"};
+    else if (ext == ".jpg" || ext == ".jpeg")
+        info = {Format::jpeg, "jpeg", "JPEG"};
+    else if (ext == ".tif" || ext == ".tiff")
+        info = {Format::tiff, "tiff", "TIFF"};
+    else
+        return false;
     return true;
 }
 
@@ -115,18 +121,16 @@ struct Encoded {
 // One pass of a multi-layer EXR: Blender's layer name, its channel suffixes and where its values
 // live in the Image.
 struct PassLayout {
-    const char* name;     // as --passes spells it
-    const char* layer;    // Blender's pass name
-    const char* suffixes; // one letter per channel
+    const char* name;      // as --passes spells it
+    const char* layer;     // Blender's pass name
+    const char* suffixes;  // one letter per channel
     const std::vector<float> Image::*values;
-    int stride;           // floats per pixel in `values`
+    int stride;  // floats per pixel in `values`
 };
 
 const PassLayout k_pass_layouts[] = {
-    {"combined", "Combined", "RGBA", &Image::rgba, 4},
-    {"depth", "Depth", "Z", &Image::depth, 1},
-    {"normal", "Normal", "XYZ", &Image::normal, 3},
-    {"albedo", "Albedo", "RGB", &Image::albedo, 3},
+    {"combined", "Combined", "RGBA", &Image::rgba, 4},    {"depth", "Depth", "Z", &Image::depth, 1},
+    {"normal", "Normal", "XYZ", &Image::normal, 3},       {"albedo", "Albedo", "RGB", &Image::albedo, 3},
     {"variance", "Variance", "RGB", &Image::variance, 3},
 };
 
@@ -173,41 +177,38 @@ void encode_multilayer(Encoded& enc, const Image& image, const std::string& path
     }
 }
 
-Encoded encode(const Image& image, const std::string& path, const FormatInfo& info,
-               const OutputSettings& settings) {
+Encoded encode(const Image& image, const std::string& path, const FormatInfo& info, const OutputSettings& settings) {
     Encoded enc;
     const int w = image.width, h = image.height;
     switch (info.format) {
-    case Format::exr:
-        if (!is_exr_codec(settings.exr_codec))
-            fail(path, "unknown EXR codec '" + settings.exr_codec +
-                           "' (known: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
-        if (settings.passes.empty()) {
-            enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+        case Format::exr:
+            if (!is_exr_codec(settings.exr_codec))
+                fail(path, "unknown EXR codec '" + settings.exr_codec +
+                               "' (known: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
+            if (settings.passes.empty()) {
+                enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+                enc.type = OIIO::TypeDesc::FLOAT;
+                enc.f32 = image.rgba;
+            } else {
+                encode_multilayer(enc, image, path, settings);
+            }
+            enc.spec.attribute("compression", settings.exr_codec);
+            return enc;
+        case Format::hdr:
+            // RGBE has no alpha channel.
+            enc.spec = OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT);
             enc.type = OIIO::TypeDesc::FLOAT;
-            enc.f32 = image.rgba;
-        } else {
-            encode_multilayer(enc, image, path, settings);
-        }
-        enc.spec.attribute("compression", settings.exr_codec);
-        return enc;
-    case Format::hdr:
-        // RGBE has no alpha channel.
-        enc.spec = OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT);
-        enc.type = OIIO::TypeDesc::FLOAT;
-        enc.f32 = drop_alpha(image.rgba);
-        return enc;
-    case Format::png:
-    case Format::tiff:
-    case Format::jpeg:
-        break;
+            enc.f32 = drop_alpha(image.rgba);
+            return enc;
+        case Format::png:
+        case Format::tiff:
+        case Format::jpeg: break;
     }
 
     int bits = 8;
     if (info.format != Format::jpeg) {
         if (settings.bits != 8 && settings.bits != 16)
-            fail(path, std::string(info.label) + " bit depth must be 8 or 16, not " +
-                           std::to_string(settings.bits));
+            fail(path, std::string(info.label) + " bit depth must be 8 or 16, not " + std::to_string(settings.bits));
         bits = settings.bits;
     }
     // JPEG has no alpha; PNG and TIFF keep it.
@@ -331,13 +332,11 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
     FormatInfo info;
     if (!format_of(path, info)) {
         const std::string ext = fs::path(path).extension().string();
-        fail(path, ext.empty() ? "unknown image format (no extension)"
-                               : "unknown image format '" + ext + "'");
+        fail(path, ext.empty() ? "unknown image format (no extension)" : "unknown image format '" + ext + "'");
     }
     if (image.width <= 0 || image.height <= 0 ||
         image.rgba.size() != static_cast<size_t>(image.width) * image.height * 4)
-        fail(path, "invalid image (" + std::to_string(image.width) + "x" +
-                       std::to_string(image.height) + ")");
+        fail(path, "invalid image (" + std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
 
     const fs::path target(path);
     const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
@@ -376,7 +375,8 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
         err = out->geterror();
     }
     out.reset();
-    if (ok && info.format == Format::hdr && !settings.metadata.empty() && !add_radiance_header_lines(temp, settings.metadata)) {
+    if (ok && info.format == Format::hdr && !settings.metadata.empty() &&
+        !add_radiance_header_lines(temp, settings.metadata)) {
         ok = false;
         err = "cannot add the metadata to the Radiance header";
     }

@@ -28,15 +28,15 @@ struct DisplaySettings {
 
 struct OutputSettings {
     DisplaySettings display;
-    bool half = false;             // EXR: half floats
+    bool half = false;              // EXR: half floats
     std::string exr_codec = "zip";  // EXR compression: see is_exr_codec()
     // EXR render passes, in Blender's names: "combined", "depth", "normal", "albedo",
     // "variance". Empty: a plain RGBA file. Otherwise a multi-layer EXR with channels
     // ViewLayer.Combined.R/G/B/A, ViewLayer.Depth.Z, ViewLayer.Normal.X/Y/Z,
     // ViewLayer.Albedo.R/G/B, ViewLayer.Variance.R/G/B. Other formats write Combined only.
     std::vector<std::string> passes;
-    int quality = 95;              // JPEG
-    int bits = 8;                  // PNG/TIFF: 8 or 16
+    int quality = 95;                             // JPEG
+    int bits = 8;                                 // PNG/TIFF: 8 or 16
     std::map<std::string, std::string> metadata;  // written as string attributes
 };
 

@@ -27,8 +27,7 @@ const Material& Scene::default_material() {
 }
 
 const Material& Scene::material_of(const Mesh& mesh) const {
-    if (mesh.material >= 0 && static_cast<size_t>(mesh.material) < materials.size())
-        return materials[mesh.material];
+    if (mesh.material >= 0 && static_cast<size_t>(mesh.material) < materials.size()) return materials[mesh.material];
     return default_material();
 }
 

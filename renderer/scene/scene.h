@@ -26,8 +26,8 @@ struct Texture {
     std::vector<float> texels;  // width * height * 4, row 0 is the top of the image (v = 0)
     bool srgb = false;          // RGB encoded with the sRGB transfer function; alpha always linear
     WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
-    bool nearest = false;       // magnification filter NEAREST; otherwise bilinear
-    MipCache mips;              // coarser levels, built by the first minified lookup
+    bool nearest = false;  // magnification filter NEAREST; otherwise bilinear
+    MipCache mips;         // coarser levels, built by the first minified lookup
 };
 
 // KHR_texture_transform, applied to the texture coordinate before lookup.
@@ -60,28 +60,28 @@ struct Material {
     TextureRef metallic_roughness_texture;  // roughness in G, metallic in B
     Rgb emission{0, 0, 0};                  // emissiveFactor x KHR_materials_emissive_strength: radiance
     TextureRef emissive_texture;
-    float ior = 1.5f;                       // KHR_materials_ior
-    float specular = 1;                     // KHR_materials_specular specularFactor
-    Rgb specular_color{1, 1, 1};            // KHR_materials_specular specularColorFactor
-    TextureRef specular_texture;            // factor in A
-    TextureRef specular_color_texture;      // colour in RGB (sRGB)
-    float transmission = 0;                 // KHR_materials_transmission transmissionFactor
-    TextureRef transmission_texture;        // factor in R
+    float ior = 1.5f;                   // KHR_materials_ior
+    float specular = 1;                 // KHR_materials_specular specularFactor
+    Rgb specular_color{1, 1, 1};        // KHR_materials_specular specularColorFactor
+    TextureRef specular_texture;        // factor in A
+    TextureRef specular_color_texture;  // colour in RGB (sRGB)
+    float transmission = 0;             // KHR_materials_transmission transmissionFactor
+    TextureRef transmission_texture;    // factor in R
     // KHR_materials_volume: Beer-Lambert absorption inside a transmissive closed mesh,
     // sigma_a = -ln(attenuation_color) / attenuation_distance (thicknessFactor is a raster hint).
     Rgb attenuation_color{1, 1, 1};
-    float attenuation_distance = 0;         // 0 = infinite: nothing absorbed
+    float attenuation_distance = 0;  // 0 = infinite: nothing absorbed
     // KHR_materials_clearcoat: a GGX layer (F0 0.04, ior 1.5) over the material.
     float clearcoat = 0, clearcoat_roughness = 0;
-    TextureRef clearcoat_texture;           // factor in R
-    TextureRef clearcoat_roughness_texture; // roughness in G
-    TextureRef clearcoat_normal_texture;    // the coat's own normal map (surface_hit.cpp)
+    TextureRef clearcoat_texture;            // factor in R
+    TextureRef clearcoat_roughness_texture;  // roughness in G
+    TextureRef clearcoat_normal_texture;     // the coat's own normal map (surface_hit.cpp)
     float clearcoat_normal_scale = 1;
     // KHR_materials_sheen: Charlie sheen over the material.
     Rgb sheen_color{0, 0, 0};
     float sheen_roughness = 0;
-    TextureRef sheen_color_texture;         // colour in RGB (sRGB)
-    TextureRef sheen_roughness_texture;     // roughness in A
+    TextureRef sheen_color_texture;      // colour in RGB (sRGB)
+    TextureRef sheen_roughness_texture;  // roughness in A
     // KHR_materials_unlit: converted by the importer into emission of the base colour and a
     // black BSDF (what "shown as is" means in a path tracer).
     bool unlit = false;
@@ -95,7 +95,9 @@ struct Material {
     // sigma_a of KHR_materials_volume per unit length; zero when nothing is absorbed.
     Rgb absorption() const {
         if (!(attenuation_distance > 0.0f)) return Rgb(0.0f);
-        auto one = [this](float c) { return c > 0.0f ? std::max(0.0f, -std::log(std::min(c, 1.0f))) / attenuation_distance : 1e30f; };
+        auto one = [this](float c) {
+            return c > 0.0f ? std::max(0.0f, -std::log(std::min(c, 1.0f))) / attenuation_distance : 1e30f;
+        };
         return {one(attenuation_color.r), one(attenuation_color.g), one(attenuation_color.b)};
     }
 };
@@ -104,15 +106,15 @@ struct Material {
 struct Mesh {
     std::string name;
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;      // empty: flat shading from the geometric normal
+    std::vector<Vec3> normals;  // empty: flat shading from the geometric normal
     std::vector<Vec2> uv0, uv1;
     // Tangent frames for normal maps (glTF TANGENT, or generated): only filled when the mesh's
     // material has a normal texture. Bitangent = cross(normal, tangent) * tangent_signs.
     std::vector<Vec3> tangents;
     std::vector<float> tangent_signs;  // +1 or -1 per vertex
-    std::vector<Rgba> colors;       // COLOR_0
-    std::vector<uint32_t> indices;  // three per triangle
-    int32_t material = -1;          // -1: the glTF default material
+    std::vector<Rgba> colors;          // COLOR_0
+    std::vector<uint32_t> indices;     // three per triangle
+    int32_t material = -1;             // -1: the glTF default material
 
     size_t triangle_count() const { return indices.size() / 3; }
 };
@@ -137,21 +139,21 @@ enum class SpotFalloff : uint8_t {
 struct PunctualLight {
     std::string name;
     LightType type = LightType::Point;
-    Rgb intensity;            // colour x intensity, radiometric
-    Vec3 position;            // world
-    Vec3 direction{0, 0, -1}; // world, the direction light travels (spot axis, sun direction)
+    Rgb intensity;                         // colour x intensity, radiometric
+    Vec3 position;                         // world
+    Vec3 direction{0, 0, -1};              // world, the direction light travels (spot axis, sun direction)
     float cos_outer = -1, cos_inner = -1;  // spot cone
     float blend = 0;                       // Blender spot blend, derived from the cone angles
     SpotFalloff falloff = SpotFalloff::Gltf;
-    float range = 0;          // 0 = infinite (the range cut-off is a real-time hint we ignore)
+    float range = 0;  // 0 = infinite (the range cut-off is a real-time hint we ignore)
 };
 
 struct Camera {
     std::string name;
     bool orthographic = false;
-    float yfov = 0.8f;        // perspective vertical field of view, radians
-    float aspect_ratio = 0;   // 0 = not given: use the image's
-    float xmag = 1, ymag = 1; // orthographic half extents
+    float yfov = 0.8f;              // perspective vertical field of view, radians
+    float aspect_ratio = 0;         // 0 = not given: use the image's
+    float xmag = 1, ymag = 1;       // orthographic half extents
     float znear = 0.01f, zfar = 0;  // zfar 0 = infinite
     Transform camera_to_world;      // looks down -Z, +Y up (glTF convention)
 };
@@ -162,12 +164,12 @@ struct Camera {
 // with Blender's +Z up = glTF's +Y): row 0 looks up, the image centre looks along +X.
 struct Environment {
     bool enabled = false;
-    Rgb color{1, 1, 1};          // uniform radiance when there is no map
-    int width = 0, height = 0;   // map size, 0 = no map
-    std::vector<float> texels;   // linear RGB, width * height * 3, row 0 at the top (+Y)
+    Rgb color{1, 1, 1};         // uniform radiance when there is no map
+    int width = 0, height = 0;  // map size, 0 = no map
+    std::vector<float> texels;  // linear RGB, width * height * 3, row 0 at the top (+Y)
     float strength = 1;
-    float rotation = 0;          // radians about +Y, as a Mapping node's Z rotation in Blender
-    std::string source;          // the map's file, for messages
+    float rotation = 0;  // radians about +Y, as a Mapping node's Z rotation in Blender
+    std::string source;  // the map's file, for messages
     bool has_map() const { return width > 0 && height > 0; }
 };
 

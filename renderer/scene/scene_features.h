@@ -10,7 +10,7 @@ namespace veach {
 struct SceneFeatures {
     bool textures = false;
     bool normal_maps = false;
-    bool alpha = false;          // a rendered material with alphaMode MASK or BLEND
+    bool alpha = false;  // a rendered material with alphaMode MASK or BLEND
     bool transmission = false;
     bool volume = false;
     bool clearcoat = false;
@@ -18,7 +18,7 @@ struct SceneFeatures {
     bool punctual_lights = false;
     bool emissive_meshes = false;
     bool environment = false;
-    bool instancing = false;     // a mesh placed more than once
+    bool instancing = false;  // a mesh placed more than once
     bool vertex_colors = false;
 
     // Names of the features in use, for stats and logs.

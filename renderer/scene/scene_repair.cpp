@@ -178,8 +178,8 @@ void repair_normals(Mesh& mesh, RepairCounts& counts) {
     for (uint32_t i : bad) {
         double len = norm(sum[i]);
         // A vertex no face uses keeps a zero normal: it is never interpolated alone.
-        mesh.normals[i] = len > 0.0 ? Vec3(float(sum[i].x / len), float(sum[i].y / len), float(sum[i].z / len))
-                                    : Vec3(0, 0, 0);
+        mesh.normals[i] =
+            len > 0.0 ? Vec3(float(sum[i].x / len), float(sum[i].y / len), float(sum[i].z / len)) : Vec3(0, 0, 0);
         ++counts.normals_replaced;
     }
 }

@@ -23,9 +23,7 @@ ImageData read_opened(std::unique_ptr<OIIO::ImageInput> in, const std::string& p
 
 }  // namespace
 
-ImageData read_image(const std::string& path) {
-    return read_opened(OIIO::ImageInput::open(path), path);
-}
+ImageData read_image(const std::string& path) { return read_opened(OIIO::ImageInput::open(path), path); }
 
 ImageData read_image_memory(const unsigned char* data, size_t size, const std::string& name) {
     // OpenImageIO reads through a proxy over our bytes; it neither copies nor frees them.

@@ -15,7 +15,7 @@ public:
 
 struct ImageData {
     int width = 0, height = 0;
-    std::vector<float> rgba;  // width * height * 4, row 0 at the top
+    std::vector<float> rgba;    // width * height * 4, row 0 at the top
     bool srgb_encoded = false;  // the file stores sRGB-encoded values (8-bit PNG/JPEG, ...)
 };
 

@@ -11,8 +11,8 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -209,8 +209,8 @@ TEST_F(CApi, SceneFromMemoryRendersLikeTheFile) {
     std::ifstream f(k_cornell, std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     ASSERT_FALSE(bytes.empty());
-    VeachScene from_memory = veachNewSceneFromMemory(m_device, bytes.data(), bytes.size(), "gltf",
-                                                     VEACH_EXAMPLES_DIR "/cornell");
+    VeachScene from_memory =
+        veachNewSceneFromMemory(m_device, bytes.data(), bytes.size(), "gltf", VEACH_EXAMPLES_DIR "/cornell");
     ASSERT_NE(from_memory, nullptr) << veachGetLastError();
     VeachScene from_file = veachNewSceneFromFile(m_device, k_cornell.c_str());
     VeachRender a = new_cornell_render(from_memory), b = new_cornell_render(from_file);
@@ -313,7 +313,8 @@ TEST_F(CApi, CancelFromAnotherThreadStopsPromptly) {
 TEST_F(CApi, ProgressCallbackReturningFalseCancels) {
     VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
     VeachRender r = new_cornell_render(s, 1000);
-    veachSetProgressFunction(r, [](void*, double, double) { return false; }, nullptr);
+    veachSetProgressFunction(
+        r, [](void*, double, double) { return false; }, nullptr);
     EXPECT_EQ(veachRender(r), VEACH_ERROR_CANCELLED);
     long long spp_done = 0;
     veachGetInt(r, "result_spp", &spp_done);
@@ -391,17 +392,18 @@ long long get_int(VeachRender r, const char* name) {
 }
 
 // An error code and a last-error message that names `needle`.
-#define EXPECT_REFUSED(call, code, needle)                                                            \
-    do {                                                                                              \
-        EXPECT_EQ((call), (code));                                                                    \
-        EXPECT_EQ(veachGetLastErrorCode(), (code));                                                   \
+#define EXPECT_REFUSED(call, code, needle)                                                                  \
+    do {                                                                                                    \
+        EXPECT_EQ((call), (code));                                                                          \
+        EXPECT_EQ(veachGetLastErrorCode(), (code));                                                         \
         EXPECT_NE(std::string(veachGetLastError()).find(needle), std::string::npos) << veachGetLastError(); \
     } while (0)
 
 TEST_F(CApi, SceneOptionsAreCheckedAndFrozenByTheLoad) {
     VeachScene s = veachNewScene(m_device);
     ASSERT_NE(s, nullptr);
-    EXPECT_REFUSED(veachSetSceneString(s, "spot_falloff", "cone"), VEACH_ERROR_INVALID_ARGUMENT, "auto, blender or gltf");
+    EXPECT_REFUSED(veachSetSceneString(s, "spot_falloff", "cone"), VEACH_ERROR_INVALID_ARGUMENT,
+                   "auto, blender or gltf");
     EXPECT_REFUSED(veachSetSceneString(s, "env_color", "1,2"), VEACH_ERROR_INVALID_ARGUMENT, "R,G,B");
     EXPECT_REFUSED(veachSetSceneString(s, "env_color", "1,-2,3"), VEACH_ERROR_INVALID_ARGUMENT, "R,G,B");
     EXPECT_REFUSED(veachSetSceneFloat(s, "env_strength", -1), VEACH_ERROR_INVALID_ARGUMENT, "env_strength");

@@ -28,8 +28,10 @@ int main(int argc, char** argv) {
     double seconds = 2.0;
     for (int i = 2; i + 1 < argc; i += 2) {
         std::string a = argv[i];
-        if (a == "--threads") threads = std::atoi(argv[i + 1]);
-        else if (a == "--seconds") seconds = std::atof(argv[i + 1]);
+        if (a == "--threads")
+            threads = std::atoi(argv[i + 1]);
+        else if (a == "--seconds")
+            seconds = std::atof(argv[i + 1]);
     }
     Scene scene;
     try {

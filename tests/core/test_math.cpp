@@ -7,7 +7,8 @@ namespace veach {
 namespace {
 
 TEST(Math, InverseUndoesAffineTransform) {
-    Transform t = translation(Vec3(1, -2, 3)) * rotation_quaternion(0.1f, 0.7f, -0.2f, 0.6f) * scaling(Vec3(2, 3, 0.5f));
+    Transform t =
+        translation(Vec3(1, -2, 3)) * rotation_quaternion(0.1f, 0.7f, -0.2f, 0.6f) * scaling(Vec3(2, 3, 0.5f));
     Transform inv = inverse(t);
     Vec3 p(0.3f, -1.7f, 2.2f);
     Vec3 q = inv.point(t.point(p));
@@ -65,8 +66,10 @@ TEST(Rgb, MaxIsFmaxOfTheChannels) {
         for (float b : vals)
             for (float c : vals) {
                 float want = std::fmax(a, std::fmax(b, c)), got = Rgb(a, b, c).max();
-                if (std::isnan(want)) EXPECT_TRUE(std::isnan(got));
-                else EXPECT_EQ(want, got) << a << " " << b << " " << c;
+                if (std::isnan(want))
+                    EXPECT_TRUE(std::isnan(got));
+                else
+                    EXPECT_EQ(want, got) << a << " " << b << " " << c;
             }
 }
 }  // namespace

@@ -12,7 +12,10 @@ namespace {
 
 TEST(Sampling, CosineHemisphereMatchesItsPdf) {
     auto res = test::chi_square_directions(
-        [](Rng& rng, Vec3* d) { *d = sample_cosine_hemisphere(rng.next_float(), rng.next_float()); return true; },
+        [](Rng& rng, Vec3* d) {
+            *d = sample_cosine_hemisphere(rng.next_float(), rng.next_float());
+            return true;
+        },
         [](const Vec3& d) { return static_cast<double>(cosine_hemisphere_pdf_w(d.z)); });
     EXPECT_GT(res.p_value, 0.01 / 3);
 }
@@ -28,9 +31,12 @@ TEST(Sampling, ConcentricDiskIsShirleyChiusMap) {
             float u1 = static_cast<float>(i) / n, u2 = static_cast<float>(j) / n;
             float a = 2 * u1 - 1, b = 2 * u2 - 1;
             double r, phi;
-            if (a == 0 && b == 0) r = phi = 0;
-            else if (std::fabs(a) > std::fabs(b)) r = a, phi = (M_PI / 4) * (static_cast<double>(b) / a);
-            else r = b, phi = M_PI / 2 - (M_PI / 4) * (static_cast<double>(a) / b);
+            if (a == 0 && b == 0)
+                r = phi = 0;
+            else if (std::fabs(a) > std::fabs(b))
+                r = a, phi = (M_PI / 4) * (static_cast<double>(b) / a);
+            else
+                r = b, phi = M_PI / 2 - (M_PI / 4) * (static_cast<double>(a) / b);
             Vec2 d = sample_concentric_disk(u1, u2);
             worst = std::max({worst, std::fabs(d.x - r * std::cos(phi)), std::fabs(d.y - r * std::sin(phi))});
             if (i == 0 || j == 0 || i == n || j == n) {
@@ -42,7 +48,10 @@ TEST(Sampling, ConcentricDiskIsShirleyChiusMap) {
 
 TEST(Sampling, UniformSphereMatchesItsPdf) {
     auto res = test::chi_square_directions(
-        [](Rng& rng, Vec3* d) { *d = sample_uniform_sphere(rng.next_float(), rng.next_float()); return true; },
+        [](Rng& rng, Vec3* d) {
+            *d = sample_uniform_sphere(rng.next_float(), rng.next_float());
+            return true;
+        },
         [](const Vec3&) { return static_cast<double>(k_inv_four_pi); });
     EXPECT_GT(res.p_value, 0.01 / 3);
 }
@@ -50,7 +59,10 @@ TEST(Sampling, UniformSphereMatchesItsPdf) {
 TEST(Sampling, UniformConeMatchesItsPdf) {
     const float cos_max = 0.8f;
     auto res = test::chi_square_directions(
-        [&](Rng& rng, Vec3* d) { *d = sample_uniform_cone(rng.next_float(), rng.next_float(), cos_max); return true; },
+        [&](Rng& rng, Vec3* d) {
+            *d = sample_uniform_cone(rng.next_float(), rng.next_float(), cos_max);
+            return true;
+        },
         [&](const Vec3& d) { return d.z >= cos_max ? 1.0 / (2 * k_pi * (1 - cos_max)) : 0.0; });
     EXPECT_GT(res.p_value, 0.01 / 3);
 }

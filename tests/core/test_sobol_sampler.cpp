@@ -18,7 +18,7 @@ TEST(SobolSampler, FirstPowerOfTwoPointsAreStratifiedInEveryElementaryInterval) 
         std::vector<Vec2> pts;
         for (int i = 0; i < n; ++i) {
             Sampler s(SamplerKind::Sobol, 3, pixel, static_cast<uint32_t>(i));
-            s.next_2d();                // pair 0
+            s.next_2d();                 // pair 0
             pts.push_back(s.next_2d());  // pair 1: a different scramble and shuffle
         }
         for (int a = 0; a <= k; ++a) {

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "api/render_job.h"
 #include "../render/test_scenes.h"
+#include "api/render_job.h"
 #include "core/rng.h"
 #include "film/film_checkpoint.h"
 
@@ -200,7 +200,7 @@ TEST_P(AdaptiveRenderOf, IsUnbiasedAndSpendsSamplesWhereTheNoiseIs) {
     double corner = 0;
     for (int y = 0; y < 6; ++y)
         for (int x = 0; x < 6; ++x) corner += img.sample_count[static_cast<size_t>(y) * size + x] / 36.0;
-    EXPECT_GT(corner, 0.75 * spp);  // most wall pixels take every sample
+    EXPECT_GT(corner, 0.75 * spp);           // most wall pixels take every sample
     EXPECT_LT(r.stats.mean_spp, 0.9 * spp);  // the smooth pixels saved ~10% of the samples
     EXPECT_EQ(r.stats.spp_done, spp);
     EXPECT_EQ(r.stats.camera_samples, static_cast<uint64_t>(std::llround(r.stats.mean_spp * size * size)));

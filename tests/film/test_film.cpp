@@ -92,8 +92,8 @@ bool same_image(const Image& a, const Image& b) {
         // Empty vectors may have null data(), which memcmp must not see.
         return u.size() == v.size() && (u.empty() || std::memcmp(u.data(), v.data(), u.size() * sizeof(float)) == 0);
     };
-    return same(a.rgba, b.rgba) && same(a.variance, b.variance) && same(a.depth, b.depth) &&
-           same(a.normal, b.normal) && same(a.albedo, b.albedo);
+    return same(a.rgba, b.rgba) && same(a.variance, b.variance) && same(a.depth, b.depth) && same(a.normal, b.normal) &&
+           same(a.albedo, b.albedo);
 }
 
 TEST(FilmCheckpoint, RoundTripIsBitExact) {

@@ -62,8 +62,8 @@ TEST(FilteredRender, FiltersKeepTheImageMean) {
         MeanWithError m = image_mean(img);
         const double sigma = std::hypot(m_box.standard_error, m.standard_error);
         EXPECT_NEAR(m.mean, m_box.mean, 4.0 * sigma + 0.01 * m_box.mean)
-            << filter_name(type) << ": box " << m_box.mean << " +- " << m_box.standard_error << ", filtered "
-            << m.mean << " +- " << m.standard_error;
+            << filter_name(type) << ": box " << m_box.mean << " +- " << m_box.standard_error << ", filtered " << m.mean
+            << " +- " << m.standard_error;
         EXPECT_GT(m.mean, 0.0);
     }
 }
@@ -129,8 +129,7 @@ bool same_pixels(const Image& a, const Image& b) {
 // stopped: same seed, same sample indices, and each pixel adds its samples in index order
 // whatever the passes.
 TEST(FilteredRender, ResumedRenderIsBitIdentical) {
-    const fs::path path =
-        fs::path(testing::TempDir()) / ("veach_resume_" + std::to_string(::getpid()) + ".checkpoint");
+    const fs::path path = fs::path(testing::TempDir()) / ("veach_resume_" + std::to_string(::getpid()) + ".checkpoint");
     RenderJobOptions full = options(24, 40);
     full.film.filter = {FilterType::gaussian, 1.5f};
     full.render.threads = 2;

@@ -21,9 +21,12 @@ struct FilterCase {
 };
 
 const FilterCase k_cases[] = {
-    {FilterType::box, 1.0f},          {FilterType::box, 2.0f},
-    {FilterType::gaussian, 1.5f},     {FilterType::gaussian, 0.7f},
-    {FilterType::blackman_harris, 1.5f}, {FilterType::blackman_harris, 3.0f},
+    {FilterType::box, 1.0f},
+    {FilterType::box, 2.0f},
+    {FilterType::gaussian, 1.5f},
+    {FilterType::gaussian, 0.7f},
+    {FilterType::blackman_harris, 1.5f},
+    {FilterType::blackman_harris, 3.0f},
 };
 
 std::string label(const FilterCase& c) { return std::string(filter_name(c.type)) + " " + std::to_string(c.width); }

@@ -105,7 +105,9 @@ TEST(GltfDraco, TranscodedTwinHasTheSameTrianglesWithinTheDeclaredQuantization) 
     float rp = extent([&](size_t i, int d) { return want.positions[i][d]; }, 3);
     float rt = extent([&](size_t i, int d) { return d == 0 ? want.uv0[i].x : want.uv0[i].y; }, 2);
     float rc = extent(
-        [&](size_t i, int d) { return d == 0 ? want.colors[i].r : d == 1 ? want.colors[i].g : want.colors[i].b; }, 3);
+        [&](size_t i, int d) { return d == 0   ? want.colors[i].r
+                                      : d == 1 ? want.colors[i].g
+                                               : want.colors[i].b; }, 3);
     // Normals are octahedral: qn bits per coordinate on [-1, 1]^2, which the unfolding stretches
     // by at most a factor two in any component.
     Tolerance t{half_step(rp, k_qp), 2 * 2 * half_step(2, k_qn), half_step(rt, k_qt), half_step(rc, k_qc)};
@@ -244,10 +246,10 @@ GltfBuilder draco_scene(const std::vector<uint8_t>& stream, const std::vector<Gl
         ext_attributes[attrs[i].name] = ids.at(i);
     }
     int indices = b.push("accessors", {{"componentType", index_type}, {"count", 3 * faces}, {"type", "SCALAR"}});
-    json prim = {{"attributes", attributes},
-                 {"indices", indices},
-                 {"extensions",
-                  {{"KHR_draco_mesh_compression", {{"bufferView", view}, {"attributes", ext_attributes}}}}}};
+    json prim = {
+        {"attributes", attributes},
+        {"indices", indices},
+        {"extensions", {{"KHR_draco_mesh_compression", {{"bufferView", view}, {"attributes", ext_attributes}}}}}};
     b.push("meshes", {{"name", "packed"}, {"primitives", json::array({prim})}});
     b.place(0);
     b.doc["extensionsUsed"] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization"};
@@ -280,7 +282,10 @@ TEST(GltfDraco, AttributesMapByUniqueIdAndDecodeByComponentType) {
     std::vector<double> pos = {0, 0, 0, 1000, 0, 0, 1000, -300, 0, 0, 0, 7, 1000, -300, 7, 0, -300, 7};
     std::vector<DracoAttribute> da = {
         {GeometryAttribute::POSITION, draco::DT_INT16, 3, false, pos},
-        {GeometryAttribute::NORMAL, draco::DT_INT8, 3, true,
+        {GeometryAttribute::NORMAL,
+         draco::DT_INT8,
+         3,
+         true,
          {0, 0, 127, 0, 0, 127, 0, 0, 127, 0, -128, 0, 0, -128, 0, 0, -128, 0}},
         {GeometryAttribute::TEX_COORD, draco::DT_UINT16, 2, true, ramp(6, 2, 0, 5000)},
         {GeometryAttribute::TEX_COORD, draco::DT_INT8, 2, true, ramp(6, 2, -128, 20)},
@@ -328,8 +333,8 @@ TEST(GltfDraco, FloatTangentsAndSequentialEncoding) {
     std::vector<DracoAttribute> da = {
         {GeometryAttribute::POSITION, draco::DT_FLOAT32, 3, false, quad_positions()},
         {GeometryAttribute::TEX_COORD, draco::DT_FLOAT32, 2, false, ramp(6, 2, 0.0, 0.125)},
-        {GeometryAttribute::GENERIC, draco::DT_FLOAT32, 4, false,
-         {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 0, 1, 0, -1, 0, 1, 0, -1, 0, 1, 0, -1}},
+        {GeometryAttribute::GENERIC, draco::DT_FLOAT32, 4, false, {1, 0, 0, 1,  1, 0, 0, 1,  1, 0, 0, 1,
+                                                                   0, 1, 0, -1, 0, 1, 0, -1, 0, 1, 0, -1}},
     };
     std::vector<int> ids;
     std::vector<uint8_t> stream = encode(da, 2, &ids, draco::MESH_SEQUENTIAL_ENCODING);

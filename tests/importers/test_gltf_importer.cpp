@@ -9,8 +9,8 @@
 #include <limits>
 #include <thread>
 
-#include "importers/importer.h"
 #include "gltf_test_builder.h"
+#include "importers/importer.h"
 
 namespace veach {
 namespace {
@@ -208,11 +208,9 @@ TEST(GltfImporter, InterleavedAttributesHonourByteStride) {
     std::vector<float> interleaved = {0, 0, 0, 0.1f, 0.2f, 1, 0, 0, 0.3f, 0.4f, 0, 1, 0, 0.5f, 0.6f};
     int view = b.view(interleaved.data(), interleaved.size() * 4, 20);
     int pos = b.push("accessors", {{"bufferView", view}, {"componentType", k_float}, {"count", 3}, {"type", "VEC3"}});
-    int uv = b.push("accessors", {{"bufferView", view},
-                                  {"byteOffset", 12},
-                                  {"componentType", k_float},
-                                  {"count", 3},
-                                  {"type", "VEC2"}});
+    int uv =
+        b.push("accessors",
+               {{"bufferView", view}, {"byteOffset", 12}, {"componentType", k_float}, {"count", 3}, {"type", "VEC2"}});
     b.push("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}}}}}}});
     b.place(0);
     Scene s = load(b);
@@ -229,9 +227,8 @@ TEST(GltfImporter, SparseAccessorReplacesValues) {
     std::vector<float> sparse_values = {5, 6, 7};
     int iv = b.view(sparse_indices.data(), 2);
     int vv = b.view(sparse_values.data(), 12);
-    b.doc["accessors"][pos]["sparse"] = {{"count", 1},
-                                         {"indices", {{"bufferView", iv}, {"componentType", k_ushort}}},
-                                         {"values", {{"bufferView", vv}}}};
+    b.doc["accessors"][pos]["sparse"] = {
+        {"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", k_ushort}}}, {"values", {{"bufferView", vv}}}};
     // Sparse over zeros: no bufferView.
     std::vector<uint8_t> zi = {2};
     std::vector<float> zv = {0.5f, 0.25f};
@@ -240,9 +237,10 @@ TEST(GltfImporter, SparseAccessorReplacesValues) {
     int uv = b.push("accessors", {{"componentType", k_float},
                                   {"count", 3},
                                   {"type", "VEC2"},
-                                  {"sparse", {{"count", 1},
-                                              {"indices", {{"bufferView", ziv}, {"componentType", k_ubyte}}},
-                                              {"values", {{"bufferView", zvv}}}}}});
+                                  {"sparse",
+                                   {{"count", 1},
+                                    {"indices", {{"bufferView", ziv}, {"componentType", k_ubyte}}},
+                                    {"values", {{"bufferView", zvv}}}}}});
     b.push("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}}}}}}});
     b.place(0);
     Scene s = load(b);
@@ -449,13 +447,12 @@ TEST(GltfImporter, UnusedMaterialsDecodeNoTextures) {
 }
 
 TEST(GltfImporter, SpecularExtension) {
-    Scene s = load(material_scene(
-        {{"extensions",
-          {{"KHR_materials_specular",
-            {{"specularFactor", 0.3},
-             {"specularColorFactor", {0.5, 0.6, 0.7}},
-             {"specularTexture", {{"index", 0}}},
-             {"specularColorTexture", {{"index", 0}, {"texCoord", 1}}}}}}}}));
+    Scene s = load(material_scene({{"extensions",
+                                    {{"KHR_materials_specular",
+                                      {{"specularFactor", 0.3},
+                                       {"specularColorFactor", {0.5, 0.6, 0.7}},
+                                       {"specularTexture", {{"index", 0}}},
+                                       {"specularColorTexture", {{"index", 0}, {"texCoord", 1}}}}}}}}));
     const Material& m = s.materials.at(0);
     EXPECT_FLOAT_EQ(m.specular, 0.3f);
     EXPECT_FLOAT_EQ(m.specular_color.r, 0.5f);
@@ -475,13 +472,15 @@ TEST(GltfImporter, LayerAndTransmissionExtensions) {
     Scene s = load(material_scene(
         {{"extensions",
           {{"KHR_materials_transmission", {{"transmissionFactor", 0.8}}},
-           {"KHR_materials_volume", {{"thicknessFactor", 0.1}, {"attenuationDistance", 2.0},
-                                     {"attenuationColor", {0.5, 0.25, 1.0}}}},
+           {"KHR_materials_volume",
+            {{"thicknessFactor", 0.1}, {"attenuationDistance", 2.0}, {"attenuationColor", {0.5, 0.25, 1.0}}}},
            {"KHR_materials_clearcoat",
-            {{"clearcoatFactor", 0.6}, {"clearcoatRoughnessFactor", 0.2},
+            {{"clearcoatFactor", 0.6},
+             {"clearcoatRoughnessFactor", 0.2},
              {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}}},
            {"KHR_materials_sheen",
-            {{"sheenColorFactor", {0.9, 0.8, 0.7}}, {"sheenRoughnessFactor", 0.4},
+            {{"sheenColorFactor", {0.9, 0.8, 0.7}},
+             {"sheenRoughnessFactor", 0.4},
              {"sheenColorTexture", {{"index", 0}}}}}}}}));
     const Material& m = s.materials.at(0);
     EXPECT_FLOAT_EQ(m.transmission, 0.8f);

@@ -60,9 +60,9 @@ TEST(GltfTextures, TangentsComeFromTheFileOrAreGeneratedForNormalMapsOnly) {
     EXPECT_TRUE(generated.features.normal_maps);
 
     // A clearcoat normal map needs the tangent frame too (surface_hit.cpp applies it to the coat).
-    Scene coat = load(material_scene({{"extensions",
-                                       {{"KHR_materials_clearcoat",
-                                         {{"clearcoatFactor", 1.0}, {"clearcoatNormalTexture", {{"index", 1}}}}}}}}));
+    Scene coat = load(material_scene(
+        {{"extensions",
+          {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatNormalTexture", {{"index", 1}}}}}}}}));
     EXPECT_EQ(coat.meshes.at(0).tangents.size(), coat.meshes.at(0).positions.size());
     EXPECT_TRUE(coat.features.normal_maps);
 

@@ -106,12 +106,11 @@ TEST(GltfMaterial, FurnaceGridNeverGainsEnergy) {
                         GltfBsdf bsdf(inputs(Rgb(1.0f), metallic, roughness, specular, ior));
                         float se = 0;
                         Rgb a = albedo(bsdf, direction(theta, 1.0f), 20000, TransportMode::Radiance, &se);
-                        EXPECT_LE(a.max(), 1.0f + 4 * se + 0.005f)
-                            << "r " << roughness << " m " << metallic << " ior " << ior << " s " << specular
-                            << " theta " << theta;
+                        EXPECT_LE(a.max(), 1.0f + 4 * se + 0.005f) << "r " << roughness << " m " << metallic << " ior "
+                                                                   << ior << " s " << specular << " theta " << theta;
                         // A white, non-absorbing layer stack keeps nearly all of it, too.
-                        EXPECT_GE(std::min({a.r, a.g, a.b}), 0.97f) << "r " << roughness << " m " << metallic << " ior " << ior
-                                                  << " s " << specular << " theta " << theta;
+                        EXPECT_GE(std::min({a.r, a.g, a.b}), 0.97f) << "r " << roughness << " m " << metallic << " ior "
+                                                                    << ior << " s " << specular << " theta " << theta;
                         ++cases;
                     }
     EXPECT_EQ(cases, 324);
@@ -153,9 +152,9 @@ TEST(GltfMaterial, Reciprocity) {
         for (float roughness : {0.05f, 0.3f, 0.7f, 1.0f})
             for (float specular : {0.3f, 1.0f})
                 for (float transmission : {0.0f, 0.5f}) {
-                    GltfBsdf bsdf(layered(inputs(Rgb(0.8f, 0.4f, 0.3f), metallic, roughness, specular, 1.45f, transmission),
-                                          specular < 1.0f ? 0.7f : 0.0f, roughness, Rgb(0.9f, 0.5f, 0.2f) * transmission,
-                                          roughness));
+                    GltfBsdf bsdf(layered(
+                        inputs(Rgb(0.8f, 0.4f, 0.3f), metallic, roughness, specular, 1.45f, transmission),
+                        specular < 1.0f ? 0.7f : 0.0f, roughness, Rgb(0.9f, 0.5f, 0.2f) * transmission, roughness));
                     for (int i = 0; i < 100; ++i) {
                         Vec3 a = direction(rng.next_float() * 1.55f, rng.next_float() * 6.28f);
                         Vec3 b = direction(rng.next_float() * 1.55f, rng.next_float() * 6.28f);
@@ -167,8 +166,7 @@ TEST(GltfMaterial, Reciprocity) {
                 }
 }
 
-class GltfSamplingChiSquare
-    : public ::testing::TestWithParam<std::tuple<float, float, float, float, float>> {};
+class GltfSamplingChiSquare : public ::testing::TestWithParam<std::tuple<float, float, float, float, float>> {};
 
 // metallic, roughness, transmission, eta (relative index below), theta of wo (> pi/2: below).
 // Metallic 2 and 3 stand for a dielectric with a clearcoat (roughness 0.3) or a sheen; 4 and 5
@@ -213,8 +211,9 @@ INSTANTIATE_TEST_SUITE_P(Transmission, GltfSamplingChiSquare,
                                             ::testing::Values(1.0f), ::testing::Values(1.5f),
                                             ::testing::Values(0.7f, 1.2f, 2.0f, 2.8f)));
 INSTANTIATE_TEST_SUITE_P(Layers, GltfSamplingChiSquare,
-                         ::testing::Combine(::testing::Values(2.0f, 3.0f), ::testing::Values(0.6f), ::testing::Values(0.0f),
-                                            ::testing::Values(1.5f), ::testing::Values(0.4f, 1.2f)));
+                         ::testing::Combine(::testing::Values(2.0f, 3.0f), ::testing::Values(0.6f),
+                                            ::testing::Values(0.0f), ::testing::Values(1.5f),
+                                            ::testing::Values(0.4f, 1.2f)));
 INSTANTIATE_TEST_SUITE_P(TiltedCoat, GltfSamplingChiSquare,
                          ::testing::Combine(::testing::Values(4.0f), ::testing::Values(0.6f), ::testing::Values(0.0f),
                                             ::testing::Values(1.5f), ::testing::Values(0.4f, 1.2f)));
@@ -279,8 +278,9 @@ TEST(GltfMaterial, OutgoingCacheChangesNoAnswer) {
         for (float roughness : {0.0f, 0.4f, 1.0f})
             for (float transmission : {0.0f, 1.0f})
                 for (float coat : {0.0f, 0.6f}) {
-                    ShadingInputs in = layered(inputs(Rgb(0.8f, 0.4f, 0.3f), metallic, roughness, 1.0f, 1.5f, transmission),
-                                               coat, roughness * 0.5f, Rgb(0.5f) * coat, 0.5f);
+                    ShadingInputs in =
+                        layered(inputs(Rgb(0.8f, 0.4f, 0.3f), metallic, roughness, 1.0f, 1.5f, transmission), coat,
+                                roughness * 0.5f, Rgb(0.5f) * coat, 0.5f);
                     GltfBsdf plain(in, 1.5f), cached(in, 1.5f);
                     for (int i = 0; i < 100; ++i) {
                         float side = i % 2 ? 1.0f : -1.0f;
@@ -317,10 +317,10 @@ TEST(GltfMaterial, TransmissionEtaSquaredRule) {
     Rng rng(7, 7);
     int checked = 0;
     for (int i = 0; i < 400; ++i) {
-        Vec3 a = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f);            // outside, index 1
-        Vec3 b = direction(k_pi - rng.next_float() * 1.5f, rng.next_float() * 6.28f);     // inside, index eta
-        float f_ab = bsdf.eval(a, b, TransportMode::Radiance).r;   // light b -> a (leaving the medium)
-        float f_ba = bsdf.eval(b, a, TransportMode::Radiance).r;   // light a -> b (entering)
+        Vec3 a = direction(rng.next_float() * 1.5f, rng.next_float() * 6.28f);         // outside, index 1
+        Vec3 b = direction(k_pi - rng.next_float() * 1.5f, rng.next_float() * 6.28f);  // inside, index eta
+        float f_ab = bsdf.eval(a, b, TransportMode::Radiance).r;  // light b -> a (leaving the medium)
+        float f_ba = bsdf.eval(b, a, TransportMode::Radiance).r;  // light a -> b (entering)
         if (!(f_ab > 1e-4f)) continue;
         ++checked;
         EXPECT_NEAR(f_ab * eta * eta / f_ba, 1.0f, 1e-3f);  // f_ab / 1^2 = f_ba / eta^2
@@ -341,7 +341,8 @@ TEST(GltfMaterial, TransmissionConservesFluxAndReflectsTotallyInside) {
             if (roughness == 0.0f) EXPECT_NEAR(a.max(), 1.0f, 1e-4f) << "theta " << theta;
             // Single-scattering refraction loses energy with roughness (no compensation for the
             // transmissive lobe yet): bounded below only loosely.
-            else EXPECT_GT(a.max(), roughness < 0.6f ? 0.75f : 0.35f) << "r " << roughness << " theta " << theta;
+            else
+                EXPECT_GT(a.max(), roughness < 0.6f ? 0.75f : 0.35f) << "r " << roughness << " theta " << theta;
         }
     // Inside glass (wo below, eta 1/1.5 seen from there) at 60 degrees: past the critical angle
     // asin(1/1.5) = 41.8 degrees, every sample reflects, back inside.

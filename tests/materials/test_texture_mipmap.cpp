@@ -69,7 +69,7 @@ TEST(MipPyramid, EveryLevelKeepsTheImageMean) {
                     double got = mean_of(l.texels.data(), static_cast<size_t>(l.width) * l.height, c, false);
                     // Float sums over up to 32k texels: a few ulps of 1 per level.
                     EXPECT_NEAR(got, expected, 2e-5) << size[0] << "x" << size[1] << " srgb " << srgb << " level "
-                                                      << l.width << "x" << l.height << " channel " << c;
+                                                     << l.width << "x" << l.height << " channel " << c;
                 }
             }
         }
@@ -86,7 +86,8 @@ TEST(MipPyramid, EvenSizesAreTheTwoByTwoBox) {
         for (int x = 0; x < 4; ++x)
             for (int c = 0; c < 4; ++c) {
                 auto at = [&](int xx, int yy) { return t.texels[(static_cast<size_t>(yy) * 8 + xx) * 4 + c]; };
-                float box = 0.25f * (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1));
+                float box =
+                    0.25f * (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1));
                 EXPECT_NEAR(l.texels[(static_cast<size_t>(y) * 4 + x) * 4 + c], box, 1e-6f);
             }
 }
@@ -140,7 +141,8 @@ TEST(TextureSampling, CoarseLevelsWrapAsTheSamplerSays) {
         WrapMode mode;
         float at_zero;
     };
-    for (Case c : {Case{WrapMode::Repeat, 0.5f}, Case{WrapMode::ClampToEdge, 0.0f}, Case{WrapMode::MirroredRepeat, 0.0f}}) {
+    for (Case c :
+         {Case{WrapMode::Repeat, 0.5f}, Case{WrapMode::ClampToEdge, 0.0f}, Case{WrapMode::MirroredRepeat, 0.0f}}) {
         Texture t = base;
         t.wrap_s = c.mode;
         EXPECT_NEAR(sample_texture(t, Vec2{0.0f, 0.5f}, footprint).r, c.at_zero, 1e-6f) << static_cast<int>(c.mode);

@@ -32,12 +32,16 @@ class ScopedOcio {
 public:
     explicit ScopedOcio(const std::string& value) {
         if (const char* old = std::getenv("OCIO")) m_old = old;
-        if (value.empty()) unsetenv("OCIO");
-        else setenv("OCIO", value.c_str(), 1);
+        if (value.empty())
+            unsetenv("OCIO");
+        else
+            setenv("OCIO", value.c_str(), 1);
     }
     ~ScopedOcio() {
-        if (m_old) setenv("OCIO", m_old->c_str(), 1);
-        else unsetenv("OCIO");
+        if (m_old)
+            setenv("OCIO", m_old->c_str(), 1);
+        else
+            unsetenv("OCIO");
     }
     ScopedOcio(const ScopedOcio&) = delete;
     ScopedOcio& operator=(const ScopedOcio&) = delete;
@@ -64,9 +68,7 @@ private:
 };
 
 // IEC 61966-2-1 encoding, in double precision, as the reference.
-double srgb_encode(double v) {
-    return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-}
+double srgb_encode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
 
 // One row of grey pixels with the given values and alpha.
 Image grey_row(const std::vector<float>& values, float alpha = 1.0f) {
@@ -123,8 +125,7 @@ TEST(DisplayTransform, StandardViewIsThePiecewiseSrgbCurve) {
         const double expected = srgb_encode(values[i]);
         // OCIO joins the two segments continuously (toe slope 12.923 rather than the standard's
         // rounded 12.92), a difference below 1e-5 that no 16-bit file can show.
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(out.rgba[i * 4 + c], expected, 1.2e-5) << "linear " << values[i];
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.rgba[i * 4 + c], expected, 1.2e-5) << "linear " << values[i];
         EXPECT_EQ(out.rgba[i * 4 + 3], 0.25f) << "alpha must pass through untouched";
     }
 }
@@ -261,11 +262,10 @@ void expect_matches_oiiotool(const fs::path& dir, const fs::path& config, const 
     OutputSettings exr_settings;
     write_image(image, (dir / "in.exr").string(), exr_settings);
 
-    const std::string command = "oiiotool --colorconfig " + quoted(config) + " " + quoted(dir / "in.exr") +
-                                " --ociodisplay:from=scene_linear" +
-                                (oiiotool_looks.empty() ? std::string() : ":looks='" + oiiotool_looks + "'") +
-                                " sRGB '" + oiiotool_view + "' -d uint8 -o " +
-                                quoted(dir / "ref.png") + " > " + quoted(dir / "oiiotool.log") + " 2>&1";
+    const std::string command =
+        "oiiotool --colorconfig " + quoted(config) + " " + quoted(dir / "in.exr") + " --ociodisplay:from=scene_linear" +
+        (oiiotool_looks.empty() ? std::string() : ":looks='" + oiiotool_looks + "'") + " sRGB '" + oiiotool_view +
+        "' -d uint8 -o " + quoted(dir / "ref.png") + " > " + quoted(dir / "oiiotool.log") + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
 
     OutputSettings png;

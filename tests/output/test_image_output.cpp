@@ -60,8 +60,7 @@ protected:
     // Names in the folder: after a write only the target may be there, never a temp file.
     std::vector<std::string> listing() const {
         std::vector<std::string> names;
-        for (const auto& entry : fs::directory_iterator(m_dir))
-            names.push_back(entry.path().filename().string());
+        for (const auto& entry : fs::directory_iterator(m_dir)) names.push_back(entry.path().filename().string());
         std::sort(names.begin(), names.end());
         return names;
     }
@@ -111,8 +110,7 @@ ReadBack read_back(const std::string& path) {
     }
     r.spec = in->spec();
     r.pixels.resize(static_cast<size_t>(r.spec.width) * r.spec.height * r.spec.nchannels);
-    EXPECT_TRUE(in->read_image(0, 0, 0, r.spec.nchannels, OIIO::TypeDesc::FLOAT, r.pixels.data()))
-        << in->geterror();
+    EXPECT_TRUE(in->read_image(0, 0, 0, r.spec.nchannels, OIIO::TypeDesc::FLOAT, r.pixels.data())) << in->geterror();
     return r;
 }
 
@@ -191,8 +189,7 @@ TEST_F(ImageOutputTest, HdrIsRgbWithinRgbePrecision) {
 }
 
 // Every stored channel within `tolerance` codes of the display-referred value, rounded.
-void expect_quantised(const ReadBack& r, const Image& display, int channels, double max_code,
-                      long tolerance) {
+void expect_quantised(const ReadBack& r, const Image& display, int channels, double max_code, long tolerance) {
     ASSERT_EQ(r.spec.width, display.width);
     ASSERT_EQ(r.spec.height, display.height);
     ASSERT_EQ(r.spec.nchannels, channels);
@@ -393,7 +390,8 @@ TEST_F(ImageOutputTest, MultiLayerExrUsesBlenderPassNames) {
         EXPECT_EQ(r.pixels[i * nc + channel("ViewLayer.Albedo.B")], 0.5f);
         EXPECT_NEAR(r.pixels[i * nc + channel("ViewLayer.Combined.G")], img.rgba[i * 4 + 1],
                     1e-3f * std::max(1.0f, img.rgba[i * 4 + 1]));
-        EXPECT_NEAR(r.pixels[i * nc + channel("ViewLayer.Variance.R")], img.variance[i * 3], 1e-3f * img.variance[i * 3] + 1e-7f);
+        EXPECT_NEAR(r.pixels[i * nc + channel("ViewLayer.Variance.R")], img.variance[i * 3],
+                    1e-3f * img.variance[i * 3] + 1e-7f);
     }
 
     Image plain = smooth_image(6, 5);

@@ -80,7 +80,9 @@ class AlphaOccluder : public ::testing::TestWithParam<std::tuple<std::string, in
 
 TEST_P(AlphaOccluder, ReceiverSeesTheEnvironmentThroughIt) {
     const auto [integrator, which] = GetParam();
-    const Cover covers[] = {{AlphaMode::Mask, 0.3f, 1.0}, {AlphaMode::Mask, 0.8f, 0.0}, {AlphaMode::Blend, 0.5f, 0.5},
+    const Cover covers[] = {{AlphaMode::Mask, 0.3f, 1.0},
+                            {AlphaMode::Mask, 0.8f, 0.0},
+                            {AlphaMode::Blend, 0.5f, 0.5},
                             {AlphaMode::Blend, 0.5f, 0.5}};
     const Cover& c = covers[which];
     const float a = 0.6f, l = 1.5f;

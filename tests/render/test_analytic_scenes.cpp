@@ -32,7 +32,8 @@ TEST_P(AnalyticScenes, EmissiveFurnaceSeesLeOverOneMinusAlbedo) {
     int spp = GetParam() == "lt" ? 512 : 64;
     Image img = test::render(s, 32, test::spp(spp), GetParam(), 200, 0, 7, &stats);
     double expected = le / (1.0 - a);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(test::channel_mean(img, c), expected, test::tol(0.01) * expected) << "channel " << c;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(test::channel_mean(img, c), expected, test::tol(0.01) * expected) << "channel " << c;
     for (double b : test::block_means(img, 8)) EXPECT_NEAR(b, expected, test::tol(0.03) * expected);
     EXPECT_EQ(stats.nonfinite_samples, 0u);
 }

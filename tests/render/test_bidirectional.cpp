@@ -6,8 +6,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "importers/importer.h"
 #include "core/rng.h"
+#include "importers/importer.h"
 #include "materials/gltf_bsdf.h"
 #include "render_helpers.h"
 #include "test_scenes.h"
@@ -21,7 +21,8 @@ std::string public_scene(const std::string& name) {
     return std::string(VEACH_SCENES_DIR) + "/" + name + "/" + name + ".gltf";
 }
 
-void expect_agree(const Image& x, const Image& ref, int block, double mean_tol, double block_tol, const std::string& what) {
+void expect_agree(const Image& x, const Image& ref, int block, double mean_tol, double block_tol,
+                  const std::string& what) {
     test::ImageComparison c = test::compare_images(x, ref, block);
     for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c.mean_ratio[ch], 1.0, test::tol(mean_tol)) << what << " channel " << ch;
     EXPECT_LT(c.worst_block, test::tol(block_tol)) << what;

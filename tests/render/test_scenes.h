@@ -16,8 +16,9 @@ inline Mesh make_sphere(float radius, Vec3 center, int segments, int rings) {
         float theta = k_pi * r / rings;
         for (int s = 0; s < segments; ++s) {
             float phi = 2.0f * k_pi * s / segments;
-            m.positions.push_back(center + Vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                                std::sin(theta) * std::sin(phi)) * radius);
+            m.positions.push_back(
+                center +
+                Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)) * radius);
         }
     }
     auto at = [&](int r, int s) { return static_cast<uint32_t>(r * segments + (s % segments)); };

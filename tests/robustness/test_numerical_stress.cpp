@@ -100,15 +100,16 @@ TEST(DegenerateGeometry, RepairedSceneRendersLikeTheCleanOne) {
         uint32_t base = static_cast<uint32_t>(m.positions.size());
         m.positions.insert(m.positions.end(),
                            {{nan, 0, 0}, {0, inf, 0}, {0.1f, 0.1f, 0.1f}, {0.2f, 0.2f, 0.2f}, {0.4f, 0.4f, 0.4f}});
-        if (!m.normals.empty()) m.normals.insert(m.normals.end(), {{nan, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 3, 0}, {0, 1, 0}});
+        if (!m.normals.empty())
+            m.normals.insert(m.normals.end(), {{nan, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 3, 0}, {0, 1, 0}});
         if (!m.uv0.empty()) m.uv0.insert(m.uv0.end(), {{nan, 0}, {inf, 0}, {0, 0}, {0, 0}, {0, 0}});
         if (!m.colors.empty()) m.colors.insert(m.colors.end(), 5, Rgba{1, 1, 1, 1});
         uint32_t a = m.indices[0], b = m.indices[1], c = m.indices[2];
-        m.indices.insert(m.indices.end(), {base, a, b,                 // NaN corner
-                                           base + 1, b, c,             // infinite corner
-                                           base + 2, base + 2, a,      // repeated corner
+        m.indices.insert(m.indices.end(), {base, a, b,                    // NaN corner
+                                           base + 1, b, c,                // infinite corner
+                                           base + 2, base + 2, a,         // repeated corner
                                            base + 2, base + 3, base + 4,  // collinear
-                                           c, b, a,                    // a coincident copy, flipped
+                                           c, b, a,                       // a coincident copy, flipped
                                            a, a, a});
     }
     RepairCounts counts = repair_scene(dirty);
@@ -145,7 +146,8 @@ Scene cornell_with_tall_box(const Material& m) {
     Scene s = cornell();
     s.materials.push_back(m);
     for (size_t i = 0; i < s.meshes.size(); ++i)
-        if (s.meshes[i].name.find("tall") != std::string::npos || i == 6) s.meshes[i].material = int32_t(s.materials.size() - 1);
+        if (s.meshes[i].name.find("tall") != std::string::npos || i == 6)
+            s.meshes[i].material = int32_t(s.materials.size() - 1);
     return s;
 }
 
@@ -306,7 +308,8 @@ TEST(CamerasAndRays, SceneWithoutLightsIsLitByAWhiteWorld) {
     // (the sphere's image is 4.7 pixels in radius).
     double centre = 0;
     for (int y = 14; y < 18; ++y)
-        for (int x = 14; x < 18; ++x) centre += (r.image.pixel(x, y)[0] + r.image.pixel(x, y)[1] + r.image.pixel(x, y)[2]) / 3.0;
+        for (int x = 14; x < 18; ++x)
+            centre += (r.image.pixel(x, y)[0] + r.image.pixel(x, y)[1] + r.image.pixel(x, y)[2]) / 3.0;
     EXPECT_NEAR(centre / 16.0, 0.5, tol(0.02));
 }
 

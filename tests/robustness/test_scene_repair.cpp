@@ -36,11 +36,11 @@ TEST(SceneRepair, ValidMeshIsUntouchedAndNotWarned) {
 TEST(SceneRepair, ZeroAreaCollinearAndRepeatedCornerTrianglesAreDropped) {
     Scene s = one_good_triangle();
     Mesh& m = s.meshes[0];
-    m.positions.push_back({2, 2, 2});       // 3
-    m.positions.push_back({4, 4, 4});       // 4: collinear with 0 and 3
-    m.positions.push_back({1, 0, 0});       // 5: the same position as 1 (a repeated vertex)
-    m.positions.push_back({0.1f, 0.2f, 0.3f});  // 6
-    m.positions.push_back({0.3f, 0.6f, 0.9f});  // 7: collinear with 0 and 6 up to float rounding
+    m.positions.push_back({2, 2, 2});              // 3
+    m.positions.push_back({4, 4, 4});              // 4: collinear with 0 and 3
+    m.positions.push_back({1, 0, 0});              // 5: the same position as 1 (a repeated vertex)
+    m.positions.push_back({0.1f, 0.2f, 0.3f});     // 6
+    m.positions.push_back({0.3f, 0.6f, 0.9f});     // 7: collinear with 0 and 6 up to float rounding
     m.indices.insert(m.indices.end(), {0, 3, 4,    // collinear
                                        0, 0, 2,    // repeated index
                                        1, 5, 2,    // repeated position: zero area
@@ -78,8 +78,8 @@ TEST(SceneRepair, NonFinitePositionsAndBadIndicesDropTheirTriangles) {
 TEST(SceneRepair, CoincidentFacesAreDroppedWhateverTheirWinding) {
     Scene s = one_good_triangle();
     Mesh& m = s.meshes[0];
-    m.positions.push_back({1, 0, 0});  // 3: a second vertex at the position of 1
-    m.positions.push_back({1, 1, 0});  // 4
+    m.positions.push_back({1, 0, 0});              // 3: a second vertex at the position of 1
+    m.positions.push_back({1, 1, 0});              // 4
     m.indices.insert(m.indices.end(), {2, 1, 0,    // same face, other winding
                                        0, 3, 2,    // same positions through another vertex
                                        1, 4, 2});  // a different face sharing an edge: kept

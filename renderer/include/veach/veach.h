@@ -37,13 +37,13 @@
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
 
 #if defined(_WIN32)
-#  if defined(VEACH_BUILDING_LIBRARY)
-#    define VEACH_API __declspec(dllexport)
-#  else
-#    define VEACH_API __declspec(dllimport)
-#  endif
+#if defined(VEACH_BUILDING_LIBRARY)
+#define VEACH_API __declspec(dllexport)
 #else
-#  define VEACH_API __attribute__((visibility("default")))
+#define VEACH_API __declspec(dllimport)
+#endif
+#else
+#define VEACH_API __attribute__((visibility("default")))
 #endif
 
 #ifdef __cplusplus
@@ -51,22 +51,22 @@ extern "C" {
 #endif
 
 typedef enum VeachError {
-  VEACH_ERROR_NONE = 0,
-  VEACH_ERROR_INVALID_ARGUMENT = 1,  /* a null handle, an unknown option, a value out of range */
-  VEACH_ERROR_INVALID_OPERATION = 2, /* e.g. changing options or rendering while a render runs */
-  VEACH_ERROR_BAD_INPUT = 3,         /* the scene file or buffer is malformed or unreadable */
-  VEACH_ERROR_OUTPUT = 4,            /* an image could not be written */
-  VEACH_ERROR_CANCELLED = 5,         /* the render was cancelled; its partial image is available */
-  VEACH_ERROR_OUT_OF_MEMORY = 6,
-  VEACH_ERROR_UNKNOWN = 7
+    VEACH_ERROR_NONE = 0,
+    VEACH_ERROR_INVALID_ARGUMENT = 1,  /* a null handle, an unknown option, a value out of range */
+    VEACH_ERROR_INVALID_OPERATION = 2, /* e.g. changing options or rendering while a render runs */
+    VEACH_ERROR_BAD_INPUT = 3,         /* the scene file or buffer is malformed or unreadable */
+    VEACH_ERROR_OUTPUT = 4,            /* an image could not be written */
+    VEACH_ERROR_CANCELLED = 5,         /* the render was cancelled; its partial image is available */
+    VEACH_ERROR_OUT_OF_MEMORY = 6,
+    VEACH_ERROR_UNKNOWN = 7
 } VeachError;
 
 typedef enum VeachStatus {
-  VEACH_STATUS_IDLE = 0,      /* never rendered */
-  VEACH_STATUS_RUNNING = 1,   /* an asynchronous render is in progress */
-  VEACH_STATUS_DONE = 2,      /* finished: every requested sample (or the time limit) */
-  VEACH_STATUS_CANCELLED = 3, /* stopped early by veachCancelRender or the progress callback */
-  VEACH_STATUS_FAILED = 4     /* the error went to the callback and to veachWaitRender's caller */
+    VEACH_STATUS_IDLE = 0,      /* never rendered */
+    VEACH_STATUS_RUNNING = 1,   /* an asynchronous render is in progress */
+    VEACH_STATUS_DONE = 2,      /* finished: every requested sample (or the time limit) */
+    VEACH_STATUS_CANCELLED = 3, /* stopped early by veachCancelRender or the progress callback */
+    VEACH_STATUS_FAILED = 4     /* the error went to the callback and to veachWaitRender's caller */
 } VeachStatus;
 
 typedef struct VeachDeviceImpl* VeachDevice;
@@ -114,8 +114,8 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
 VEACH_API VeachScene veachNewSceneFromFile(VeachDevice device, const char* path);
 /* A scene held in memory, e.g. a .glb a host produced: `format` is an extension ("glb"); relative
  * URIs resolve against `base_dir` (may be NULL). The bytes are copied. */
-VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* data, size_t size,
-                                             const char* format, const char* base_dir);
+VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* data, size_t size, const char* format,
+                                             const char* base_dir);
 /* The same in steps, for options that shape the scene (since 0.2): an empty scene, its options, then one
  * load. Options (an unknown name, a wrong type or a bad value is VEACH_ERROR_INVALID_ARGUMENT; any
  * option after the load is VEACH_ERROR_INVALID_OPERATION):
@@ -142,8 +142,7 @@ VEACH_API VeachError veachLoadSceneMemory(VeachScene scene, const void* data, si
                                           const char* base_dir);
 VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long long* value);
 VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, double* value);
-VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, char* buffer, size_t size,
-                                         size_t* length);
+VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, char* buffer, size_t size, size_t* length);
 VEACH_API void veachRetainScene(VeachScene scene);
 VEACH_API void veachReleaseScene(VeachScene scene);
 VEACH_API int veachGetSceneCameraCount(VeachScene scene);
@@ -191,8 +190,7 @@ VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double 
 VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value);
 VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long* value);
 VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double* value);
-VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* buffer, size_t size,
-                                    size_t* length);
+VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* buffer, size_t size, size_t* length);
 
 VEACH_API void veachSetProgressFunction(VeachRender render, VeachProgressFunction fn, void* user);
 

@@ -98,7 +98,8 @@ public:
     }
     // e.g. "integrators", "color_displays": one item a line.
     std::string get_string(const char* name) const {
-        return detail::get_string([&](char* b, size_t n, size_t* l) { return veachGetDeviceString(m_h, name, b, n, l); });
+        return detail::get_string(
+            [&](char* b, size_t n, size_t* l) { return veachGetDeviceString(m_h, name, b, n, l); });
     }
 };
 
@@ -145,7 +146,8 @@ public:
         return v;
     }
     std::string get_string(const char* name) const {
-        return detail::get_string([&](char* b, size_t n, size_t* l) { return veachGetSceneString(m_h, name, b, n, l); });
+        return detail::get_string(
+            [&](char* b, size_t n, size_t* l) { return veachGetSceneString(m_h, name, b, n, l); });
     }
     std::vector<std::string> camera_names() const {
         std::vector<std::string> names;

@@ -3,8 +3,8 @@
 #include <vector>
 
 #include "core/sobol_sampler.h"
-#include "integrators/first_hit_aovs.h"
 #include "integrators/bdpt/path_vertex.h"
+#include "integrators/first_hit_aovs.h"
 #include "integrators/surface_hit.h"
 #include "materials/volume_absorption.h"
 
@@ -51,7 +51,11 @@ struct Workspace {
 class Tracer {
 public:
     Tracer(const RenderScene& rs, const RenderSettings& settings, const BdptOptions& options, ThreadStats& stats)
-        : m_rs(rs), m_lights(rs.lights()), m_camera(rs.camera()), m_settings(settings), m_options(options),
+        : m_rs(rs),
+          m_lights(rs.lights()),
+          m_camera(rs.camera()),
+          m_settings(settings),
+          m_options(options),
           m_stats(stats) {}
 
     // Traces one pixel sample; returns the camera-side estimate and splats the light-tracing one.
@@ -154,8 +158,7 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
         BsdfSample bs;
         float u_lobe = rng.next_1d();
         Vec2 u_dir = rng.next_2d();
-        if (v.bsdf.is_black() || !v.bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, mode, &bs))
-            break;
+        if (v.bsdf.is_black() || !v.bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, mode, &bs)) break;
         Vec3 wi = bs.wi;
         float pdf_fwd_w = bs.pdf_w;
         float pdf_rev_w = v.bsdf.pdf_w(wi, wo);
@@ -396,8 +399,10 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 if (c.is_black() || !visible(y, z)) continue;
                 float weight = weighted() ? mis_weight(ws.light, s, ws.camera, 1, nullptr) : 1.0f;
                 c = c * weight;
-                if (c.is_finite()) film.add_splat(px, py, c);
-                else ++m_stats.nonfinite;
+                if (c.is_finite())
+                    film.add_splat(px, py, c);
+                else
+                    ++m_stats.nonfinite;
             } else if (s == 1) {
                 // Next-event estimation: a fresh point on a light.
                 if (z.bsdf.is_black() || z.bsdf.is_pure_delta()) continue;

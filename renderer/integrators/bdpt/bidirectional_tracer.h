@@ -13,10 +13,10 @@
 // Russian roulette: subpaths are terminated with probability 1 - min(1, max(beta) / max(beta_0))
 // after a few vertices (beta_0 the throughput the subpath started with: 1 for the camera, the
 // emitted power's scale for a light) and survivors divide their throughput by the survival
-// probability, so each strategy's estimate stays unbiased. The MIS weights use the densities *without* the roulette factor. This
-// is unbiased too: weights only need to sum to one over the strategies for every path, and they
-// do, because every strategy evaluates the same deterministic function of the path (the
-// roulette-free densities); only the weights' optimality is slightly affected.
+// probability, so each strategy's estimate stays unbiased. The MIS weights use the densities *without* the roulette
+// factor. This is unbiased too: weights only need to sum to one over the strategies for every path, and they do,
+// because every strategy evaluates the same deterministic function of the path (the roulette-free densities); only the
+// weights' optimality is slightly affected.
 #pragma once
 
 #include "integrators/integrator.h"
@@ -32,8 +32,8 @@ class BidirectionalTracer final : public Integrator {
 public:
     BidirectionalTracer(const RenderSettings& settings, const BdptOptions& options)
         : m_settings(settings), m_options(options) {}
-    void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
-                     Film& film, ThreadStats& stats) const override;
+    void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end, Film& film,
+                     ThreadStats& stats) const override;
 
 private:
     RenderSettings m_settings;

@@ -14,14 +14,14 @@ struct PathVertex {
     enum class Kind : uint8_t { Camera, Light, Surface };
 
     Kind kind = Kind::Surface;
-    bool delta = false;           // scattering here is a Dirac delta (or: a delta camera)
-    bool delta_light = false;     // a light vertex with a delta position or direction
-    bool infinite = false;        // a directional light's vertex: "at infinity"
+    bool delta = false;        // scattering here is a Dirac delta (or: a delta camera)
+    bool delta_light = false;  // a light vertex with a delta position or direction
+    bool infinite = false;     // a directional light's vertex: "at infinity"
     Vec3 p;
     Vec3 p_error;
-    Vec3 ng;                      // geometric normal (surfaces, area lights)
-    bool has_normal = false;      // false for the camera, point, spot and directional lights
-    Rgb beta;                     // path throughput up to and including this vertex's sampling
+    Vec3 ng;                  // geometric normal (surfaces, area lights)
+    bool has_normal = false;  // false for the camera, point, spot and directional lights
+    Rgb beta;                 // path throughput up to and including this vertex's sampling
     // KHR_materials_volume: sigma_a of the medium the subpath's segment arriving here crossed
     // (zero for air; camera and light vertices are in air). See medium_toward().
     Rgb sigma_in;
@@ -33,7 +33,7 @@ struct PathVertex {
     uint32_t instance = 0, prim = 0;
     // Lights (light vertices, and surface vertices on an emitter):
     int64_t light = -1;
-    Vec3 light_dir;               // directional light vertex: the direction light travels
+    Vec3 light_dir;  // directional light vertex: the direction light travels
 
     // Makes this slot a fresh camera or light vertex. The BSDF is left as it was: endpoints never
     // read it, and building a default one per path cost as much as a connection (perf, cornell).

@@ -91,8 +91,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
         BsdfSample bs;
         float u_lobe = rng.next_1d();
         Vec2 u_dir = rng.next_2d();
-        if (!bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, TransportMode::Radiance, &bs))
-            break;
+        if (!bsdf.sample(wo, u_lobe, u_dir.x, u_dir.y, TransportMode::Radiance, &bs)) break;
         beta *= bs.weight;
         // Crossing a transmissive surface changes the medium.
         sigma_a = bsdf.medium_toward(bs.wi, sigma_a, *hit.material);

@@ -11,8 +11,8 @@ namespace veach {
 class PathTracer final : public Integrator {
 public:
     explicit PathTracer(const RenderSettings& settings) : m_settings(settings) {}
-    void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
-                     Film& film, ThreadStats& stats) const override;
+    void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end, Film& film,
+                     ThreadStats& stats) const override;
 
     // Radiance arriving at the camera along one ray (exposed for tests).
     Rgb trace(const RenderScene& rs, Vec3 origin, Vec3 dir, class Sampler& rng, ThreadStats& stats) const;
