@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -206,17 +205,10 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
     std::vector<std::string> features = split_lines(scene_string(scene, "features"));
     for (size_t i = 0; i < features.size(); ++i) js << (i ? ", " : "") << "\"" << features[i] << "\"";
     js << "]\n}\n";
-    std::string tmp = path + ".tmp";
-    bool ok;
-    {
-        std::ofstream f(tmp);
-        f << js.str();
-        ok = static_cast<bool>(f);
-    }
-    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error(path + ": cannot write the stats file");
-    }
+    const std::string text = js.str();
+    // Through the library's atomic writer, as images are: never a torn file under `path`.
+    if (veachWriteFile(device, path.c_str(), text.data(), text.size()) != VEACH_ERROR_NONE)
+        throw std::runtime_error(veachGetLastError());
 }
 
 // Renders on the library's own thread while this one watches for a stop signal: the signal

@@ -15,6 +15,7 @@
 #include "film/film_checkpoint.h"
 #include "importers/importer.h"
 #include "integrators/integrator.h"
+#include "output/atomic_file.h"
 #include "output/display_transform.h"
 
 static_assert(VEACH_VERSION_MAJOR == VEACH_PROJECT_VERSION_MAJOR &&
@@ -211,6 +212,16 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
                                        "' (known: integrators, filters, passes, exr_codecs, color_config, "
                                        "color_displays, color_looks, color_views:DISPLAY)");
         veach::capi::copy_string(value, buffer, size, length);
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachWriteFile(VeachDevice device, const char* path, const void* data, size_t size) {
+    return guarded<VeachError>(device, VEACH_ERROR_OUTPUT, [&] {
+        if (!device) throw veach::capi::invalid("veachWriteFile: null device");
+        if (!path || !*path) throw veach::capi::invalid("veachWriteFile: empty path");
+        if (!data && size > 0) throw veach::capi::invalid("veachWriteFile: null data");
+        veach::write_file_atomically(path, data ? data : "", size);
         return VEACH_ERROR_NONE;
     });
 }

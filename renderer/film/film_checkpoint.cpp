@@ -1,12 +1,12 @@
 #include "film/film_checkpoint.h"
 
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <vector>
+
+#include "output/atomic_file.h"
 
 namespace veach {
 
@@ -35,17 +35,6 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
     throw CheckpointError(path + ": " + reason);
 }
 
-[[noreturn]] void fail_write(const std::string& path, const std::string& reason) {
-    throw CheckpointWriteError(path + ": " + reason);
-}
-
-std::string temp_name(const std::string& path) {
-    size_t slash = path.find_last_of('/');
-    std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-    return folder + "." + name + ".tmp-" + std::to_string(::getpid());
-}
-
 }  // namespace
 
 uint64_t fnv1a_64(const void* data, size_t size, uint64_t hash) {
@@ -69,22 +58,14 @@ void write_film_checkpoint(const std::string& path, const Film& film, uint64_t s
     std::vector<double> state(film.state_size());
     film.save_state(state.data());
 
-    const std::string temp = temp_name(path);
-    bool ok;
-    {
-        File f(std::fopen(temp.c_str(), "wb"));
-        if (!f) fail_write(path, std::string("cannot write checkpoint: ") + std::strerror(errno));
-        ok = std::fwrite(&h, sizeof(h), 1, f.get()) == 1 &&
-             std::fwrite(state.data(), sizeof(double), state.size(), f.get()) == state.size() &&
-             std::fwrite(k_end, sizeof(k_end), 1, f.get()) == 1 && std::fflush(f.get()) == 0 &&
-             ::fsync(::fileno(f.get())) == 0;
-        // fclose flushes too; a failure there (disk full) must also stop the rename.
-        ok = (std::fclose(f.release()) == 0) && ok;
-    }
-    if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
-        int e = errno;
-        std::remove(temp.c_str());
-        fail_write(path, std::string("cannot write checkpoint: ") + std::strerror(e));
+    try {
+        AtomicFile file(path);
+        file.write(&h, sizeof(h));
+        file.write(state.data(), state.size() * sizeof(double));
+        file.write(k_end, sizeof(k_end));
+        file.commit();
+    } catch (const OutputError& e) {
+        throw CheckpointWriteError(e.what());  // "PATH: what failed (why)"
     }
 }
 

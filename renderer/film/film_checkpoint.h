@@ -1,6 +1,6 @@
 // Resumable render state: the film's sums, the samples per pixel completed and a hash of every
-// setting that shapes the image, in one binary file written atomically (a temporary file in the
-// same folder, renamed when complete), so that a killed process leaves either the previous
+// setting that shapes the image, in one binary file written through AtomicFile
+// (output/atomic_file.h), so that a killed process or a full disk leaves either the previous
 // checkpoint or the new one, never a torn file.
 #pragma once
 

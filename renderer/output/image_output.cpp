@@ -1,22 +1,18 @@
 #include "output/image_output.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <system_error>
 #include <vector>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "output/atomic_file.h"
 #include "output/display_transform.h"
 
 namespace veach {
@@ -64,19 +60,6 @@ std::string one_line(std::string s) {
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
     throw OutputError(path + ": " + one_line(reason));
-}
-
-// Unique within the process (pid) and across threads writing the same target (counter); the
-// leading dot keeps half-written files out of casual directory listings.
-fs::path temp_path_for(const fs::path& target) {
-    static std::atomic<unsigned> counter{0};
-    const unsigned n = counter.fetch_add(1, std::memory_order_relaxed);
-    // Appended piecewise: `"." + std::string` trips a false -Wrestrict in GCC 12.
-    std::string name = ".";
-    name += target.stem().string();
-    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(n);
-    name += target.extension().string();
-    return target.parent_path() / name;
 }
 
 // Display-referred values in [0, 1] to integers, rounding to nearest so that mid-grey and
@@ -205,6 +188,11 @@ Encoded encode(const Image& image, const std::string& path, const FormatInfo& in
         case Format::jpeg: break;
     }
 
+    // libjpeg's limit; past it libjpeg calls exit() from inside OpenImageIO.
+    constexpr int k_max_jpeg_size = 65500;
+    if (info.format == Format::jpeg && (w > k_max_jpeg_size || h > k_max_jpeg_size))
+        fail(path, "JPEG images are at most " + std::to_string(k_max_jpeg_size) + " pixels wide and high, not " +
+                       std::to_string(w) + "x" + std::to_string(h));
     int bits = 8;
     if (info.format != Format::jpeg) {
         if (settings.bits != 8 && settings.bits != 16)
@@ -255,16 +243,10 @@ Encoded encode(const Image& image, const std::string& path, const FormatInfo& in
 
 // OpenImageIO's Radiance writer keeps no attributes, but a Radiance header is lines of
 // "NAME=value" up to a blank line, and readers skip the names they do not know: the metadata
-// goes there, after the "#?RADIANCE" line, in the temp file before it is renamed.
-bool add_radiance_header_lines(const fs::path& file, const std::map<std::string, std::string>& metadata) {
-    std::FILE* f = std::fopen(file.c_str(), "rb");
-    if (!f) return false;
-    std::string bytes;
-    char buffer[1 << 16];
-    for (size_t n; (n = std::fread(buffer, 1, sizeof(buffer), f)) > 0;) bytes.append(buffer, n);
-    std::fclose(f);
-    const size_t first_line = bytes.find('\n');
-    if (bytes.rfind("#?", 0) != 0 || first_line == std::string::npos) return false;
+// goes there, after the "#?RADIANCE" line, before the bytes reach the disk.
+bool add_radiance_header_lines(std::vector<unsigned char>& bytes, const std::map<std::string, std::string>& metadata) {
+    const auto first_line = std::find(bytes.begin(), bytes.end(), '\n');
+    if (bytes.size() < 2 || bytes[0] != '#' || bytes[1] != '?' || first_line == bytes.end()) return false;
     std::string lines;
     for (const auto& [key, value] : metadata) {
         std::string line = key + "=" + value;
@@ -272,17 +254,31 @@ bool add_radiance_header_lines(const fs::path& file, const std::map<std::string,
         std::replace(line.begin(), line.end(), '\r', ' ');
         lines += line + "\n";
     }
-    bytes.insert(first_line + 1, lines);
-    f = std::fopen(file.c_str(), "wb");
-    if (!f) return false;
-    bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    return (std::fclose(f) == 0) && ok;
+    bytes.insert(first_line + 1, lines.begin(), lines.end());
+    return true;
 }
 
-// Removes our temp file; never a folder that merely happens to have its name.
-void remove_quietly(const fs::path& p) {
-    std::error_code ec;
-    if (!fs::is_directory(fs::symlink_status(p, ec))) fs::remove(p, ec);
+// Encodes the whole file into memory through OpenImageIO's IOProxy: the encoders never touch
+// the disk, so a full disk cannot make one of them fail half-way (libjpeg would exit() the
+// process from inside OpenImageIO), and the bytes then go through AtomicFile, which checks every
+// write.
+std::vector<unsigned char> encode_file(const Encoded& enc, const std::string& path, const FormatInfo& info) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create(info.oiio_name);
+    if (!out) fail(path, std::string("no OpenImageIO writer for ") + info.label + ": " + OIIO::geterror());
+    if (!out->supports("ioproxy"))
+        fail(path, std::string("the OpenImageIO ") + info.label + " writer cannot encode to memory");
+    out->set_ioproxy(&proxy);
+    if (!out->open(path, enc.spec)) fail(path, "cannot encode: " + out->geterror());
+    bool ok = out->write_image(enc.type, enc.data());
+    std::string err = ok ? std::string() : out->geterror();
+    if (!out->close() && ok) {
+        ok = false;
+        err = out->geterror();
+    }
+    if (!ok) fail(path, "cannot encode: " + (err.empty() ? std::string("unknown error") : err));
+    return bytes;
 }
 
 }  // namespace
@@ -358,38 +354,11 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
         enc.spec.attribute("ImageDescription", description);
     }
 
-    const fs::path temp = temp_path_for(target);
-    auto out = OIIO::ImageOutput::create(info.oiio_name);
-    if (!out) fail(path, std::string("no OpenImageIO writer for ") + info.label + ": " + OIIO::geterror());
-    if (!out->open(temp.string(), enc.spec)) {
-        std::string err = out->geterror();
-        out.reset();
-        remove_quietly(temp);
-        fail(path, "cannot create '" + temp.string() + "': " + err);
-    }
-    bool ok = out->write_image(enc.type, enc.data());
-    std::string err = ok ? std::string() : out->geterror();
-    // close() flushes; a failure there (disk full) must also abort the rename.
-    if (!out->close() && ok) {
-        ok = false;
-        err = out->geterror();
-    }
-    out.reset();
-    if (ok && info.format == Format::hdr && !settings.metadata.empty() &&
-        !add_radiance_header_lines(temp, settings.metadata)) {
-        ok = false;
-        err = "cannot add the metadata to the Radiance header";
-    }
-    if (!ok) {
-        remove_quietly(temp);
-        fail(path, "write failed: " + (err.empty() ? std::string("unknown error") : err));
-    }
-    // rename() within one folder is atomic: readers see the old file or the new, never a mix.
-    if (std::rename(temp.c_str(), target.c_str()) != 0) {
-        const int e = errno;
-        remove_quietly(temp);
-        fail(path, std::string("cannot replace file: ") + std::strerror(e));
-    }
+    std::vector<unsigned char> bytes = encode_file(enc, path, info);
+    if (info.format == Format::hdr && !settings.metadata.empty() &&
+        !add_radiance_header_lines(bytes, settings.metadata))
+        fail(path, "cannot add the metadata to the Radiance header");
+    write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace veach

@@ -1,22 +1,17 @@
 // The output driver: writes a scene-linear Image to a file whose format comes from the
 // extension. Scene-linear formats (EXR, HDR) are written as they are; display-referred ones
-// (PNG, JPEG, TIFF) go through an OpenColorIO display transform first. Writes are atomic: a
-// temporary file in the target folder, renamed when complete.
+// (PNG, JPEG, TIFF) go through an OpenColorIO display transform first. Files are encoded in
+// memory and written through AtomicFile (output/atomic_file.h): never a partial file.
 #pragma once
 
 #include <map>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "film/film.h"
+#include "output/atomic_file.h"
 
 namespace veach {
-
-class OutputError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 struct DisplaySettings {
     std::string display;  // empty: the config's default display

@@ -31,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 2
+#define VEACH_VERSION_MINOR 3
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -107,6 +107,13 @@ VEACH_API void veachSetDeviceErrorFunction(VeachDevice device, VeachErrorFunctio
 VEACH_API VeachError veachGetDeviceInt(VeachDevice device, const char* name, long long* value);
 VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, char* buffer, size_t size,
                                           size_t* length);
+/* Writes `size` bytes to `path` the way the library writes its images and checkpoints (since
+ * 0.3): into a temporary file created beside it (O_EXCL | O_NOFOLLOW, a random name), every write
+ * and the close checked, fsync'ed, then renamed over `path`; on any failure the temporary file is
+ * removed and VEACH_ERROR_OUTPUT returned, leaving `path` as it was. An existing character
+ * device or FIFO (/dev/stdout) is written in place. For a host's own sidecar files (the veach
+ * command's --stats-json). */
+VEACH_API VeachError veachWriteFile(VeachDevice device, const char* path, const void* data, size_t size);
 
 /* ---- Scenes: imported once, immutable, shared by any number of renders -------------------- */
 

@@ -1,0 +1,140 @@
+#!/usr/bin/python3
+"""The `veach` command on a full disk: every file it writes is replaced whole or not at all.
+
+What must hold, for every image format (EXR, HDR, PNG, JPEG, TIFF), the checkpoint and
+--stats-json, on a filesystem too small for the file:
+- exit code 3 and exactly one stderr line naming the file and "No space left on device" (JPEG
+  included: libjpeg must not exit() the process from inside OpenImageIO);
+- the file that was there before is untouched, and no temporary file is left beside it.
+The same renders on a filesystem with room write files OpenImageIO reads back (so the test
+fails if the small filesystem were not what stopped them). `--stats-json /dev/full` fails the
+same way (a device is written in place, every write checked).
+
+The small filesystems are tmpfs mounts with size=, made in a private mount namespace
+(`unshare -m`, or `unshare -r -m` when not root): they vanish with the process, nothing to clean.
+Exit 0 pass, 1 fail.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+import OpenImageIO as oiio
+
+FAILURES = []
+FORMATS = ["exr", "hdr", "png", "jpg", "tif"]
+
+
+def check(condition, message):
+    if not condition:
+        FAILURES.append(message)
+        print(f"FAIL: {message}")
+    return condition
+
+
+def mount_tmpfs(folder, size):
+    os.makedirs(folder, exist_ok=True)
+    subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", folder], check=True)
+
+
+def render(veach, scene, outputs, extra=()):
+    cmd = [veach, "render", scene, "--width", "256", "--spp", "1", "--integrator", "pt", "-q"]
+    for o in outputs:
+        cmd += ["-o", o]
+    return subprocess.run(cmd + list(extra), capture_output=True, text=True, timeout=120)
+
+
+def expect_refused(result, target, what):
+    lines = result.stderr.strip().splitlines()
+    check(result.returncode == 3, f"{what}: exit {result.returncode}, expected 3 ({result.stderr.strip()})")
+    check(len(lines) == 1, f"{what}: {len(lines)} stderr lines, expected 1: {lines}")
+    check(bool(lines) and target in lines[-1] and "No space left on device" in lines[-1],
+          f"{what}: message does not name the file and the cause: {lines}")
+
+
+def only_entries(folder, names, what):
+    left = sorted(os.listdir(folder))
+    check(left == sorted(names), f"{what}: the folder holds {left}, expected {sorted(names)}")
+
+
+def in_namespace(veach, scene, root):
+    # Room for every file: the control.
+    roomy = os.path.join(root, "roomy")
+    mount_tmpfs(roomy, "64m")
+    result = render(veach, scene, [os.path.join(roomy, f"ok.{ext}") for ext in FORMATS])
+    check(result.returncode == 0, f"control render failed: {result.stderr.strip()}")
+    for ext in FORMATS:
+        path = os.path.join(roomy, f"ok.{ext}")
+        buf = oiio.ImageBuf(path)
+        check(not buf.has_error and buf.spec().width == 256, f"control {ext}: not a readable 256 px image")
+    only_entries(roomy, [f"ok.{ext}" for ext in FORMATS], "control")
+
+    # Each format alone on 16 KiB that already holds the old file: the encoded image (tens of
+    # KiB of noise at 256x256, 1 spp) does not fit.
+    for ext in FORMATS:
+        small = os.path.join(root, f"small_{ext}")
+        mount_tmpfs(small, "16k")
+        target = os.path.join(small, f"image.{ext}")
+        with open(target, "w") as f:
+            f.write("old")
+        result = render(veach, scene, [target])
+        expect_refused(result, target, f"{ext} on a full disk")
+        with open(target) as f:
+            check(f.read() == "old", f"{ext}: the previous file was changed")
+        only_entries(small, [f"image.{ext}"], ext)
+
+    # The checkpoint (the film's sums: megabytes) on a small disk: the render fails with exit 3
+    # before any image is written, and leaves no checkpoint.
+    small = os.path.join(root, "small_checkpoint")
+    mount_tmpfs(small, "256k")
+    target = os.path.join(small, "ck.exr")
+    result = render(veach, scene, [target], ["--checkpoint", "0", "--spp", "4"])
+    expect_refused(result, target + ".checkpoint", "checkpoint on a full disk")
+    only_entries(small, [], "checkpoint")
+
+    # --stats-json on a disk filled to the last byte: the image (elsewhere) is written, the stats
+    # file is not, exit 3.
+    small = os.path.join(root, "small_stats")
+    mount_tmpfs(small, "8k")
+    with open(os.path.join(small, "filler"), "wb") as f:
+        try:
+            f.write(b"\0" * 65536)
+        except OSError:
+            pass
+    stats = os.path.join(small, "stats.json")
+    image = os.path.join(roomy, "stats.png")
+    result = render(veach, scene, [image], ["--stats-json", stats])
+    expect_refused(result, stats, "--stats-json on a full disk")
+    only_entries(small, ["filler"], "stats")
+
+    result = render(veach, scene, [os.path.join(roomy, "devfull.png")], ["--stats-json", "/dev/full"])
+    expect_refused(result, "/dev/full", "--stats-json /dev/full")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--veach", required=True)
+    ap.add_argument("--scene", required=True)
+    ap.add_argument("--inside", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if not args.inside:
+        # Re-run in a private mount namespace, where mounts need no cleanup.
+        unshare = ["unshare", "-m"] if os.geteuid() == 0 else ["unshare", "-r", "-m"]
+        cmd = unshare + [sys.executable, os.path.abspath(__file__), "--inside", "--veach",
+                         os.path.abspath(args.veach), "--scene", os.path.abspath(args.scene)]
+        return subprocess.run(cmd).returncode
+    with tempfile.TemporaryDirectory(prefix="veach_disk_full_") as root:
+        in_namespace(args.veach, args.scene, root)
+        # Unmount before the temporary folder is removed (the namespace would drop them anyway).
+        for entry in os.listdir(root):
+            subprocess.run(["umount", os.path.join(root, entry)], check=False)
+    if FAILURES:
+        print(f"{len(FAILURES)} failure(s)")
+        return 1
+    print("disk full: every format, the checkpoint and the stats refused with exit 3, nothing torn")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
