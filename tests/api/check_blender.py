@@ -6,7 +6,7 @@ the VEACH engine through libveach, and cancels a second render. Checks:
 - Blender's image is scene-linear (its mean matches the linear EXR of the CLI, not a display
   transform of it) and has the Depth pass, finite in front of the camera;
 - a cancel half a second in stops the render well before its million samples would finish.
-Exits 77 (CTest: skipped) when Blender is not installed.
+Fails when Blender is missing (scripts/install-deps.sh installs it).
 Usage: check_blender.py --library LIBVEACH --veach VEACH_CLI --addon plugins/blender
 """
 import argparse
@@ -36,13 +36,11 @@ def main():
     args = ap.parse_args()
     blender = shutil.which("blender")
     if not blender:
-        print("SKIP: blender is not installed (scripts/install-deps.sh installs it)")
-        sys.exit(77)
+        sys.exit("FAIL: blender is not installed (scripts/install-deps.sh installs it)")
 
     needed = subprocess.run(["objdump", "-p", args.library], capture_output=True, text=True).stdout
     if "libasan" in needed:
-        print("SKIP: libveach is built with AddressSanitizer; Blender cannot load it")
-        sys.exit(77)
+        sys.exit("FAIL: libveach is built with AddressSanitizer; Blender cannot load it")
 
     tmp = tempfile.mkdtemp(prefix="veach_blender_test_")
     try:

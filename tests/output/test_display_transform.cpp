@@ -298,7 +298,7 @@ void expect_matches_oiiotool(const fs::path& dir, const fs::path& config, const 
 }
 
 TEST(DisplayTransform, BuiltinConfigMatchesOiiotool) {
-    if (!have_oiiotool()) GTEST_SKIP() << "oiiotool not installed";
+    ASSERT_TRUE(have_oiiotool()) << "oiiotool not installed (scripts/install-deps.sh installs openimageio-tools)";
     TempDir dir("builtin_oiiotool");
     const fs::path config = dir.path() / "builtin.ocio";
     std::ofstream(config) << builtin_color_config_text();
@@ -375,7 +375,7 @@ colorspaces:
 }
 
 TEST(DisplayTransform, LutViewAndLookMatchOiiotool) {
-    if (!have_oiiotool()) GTEST_SKIP() << "oiiotool not installed";
+    ASSERT_TRUE(have_oiiotool()) << "oiiotool not installed (scripts/install-deps.sh installs openimageio-tools)";
     TempDir dir("lut_oiiotool");
     write_lut_config(dir.path());
     expect_matches_oiiotool(dir.path(), dir.path() / "studio.ocio", "Film", "Film", "");
@@ -391,8 +391,8 @@ TEST(DisplayTransform, LutViewAndLookMatchOiiotool) {
 const char* const k_blender_config = "/usr/share/blender/datafiles/colormanagement/config.ocio";
 
 TEST(DisplayTransform, BlenderConfigViewsMatchOiiotool) {
-    if (!fs::exists(k_blender_config)) GTEST_SKIP() << "blender-data not installed (" << k_blender_config << ")";
-    if (!have_oiiotool()) GTEST_SKIP() << "oiiotool not installed";
+    ASSERT_TRUE(fs::exists(k_blender_config)) << "blender-data not installed (" << k_blender_config << ")";
+    ASSERT_TRUE(have_oiiotool()) << "oiiotool not installed (scripts/install-deps.sh installs openimageio-tools)";
     {
         ScopedOcio env(k_blender_config);
         ColorConfigInfo info = describe_color_config();
@@ -420,7 +420,7 @@ TEST(DisplayTransform, BlenderConfigViewsMatchOiiotool) {
 // away from Blender, whereas Blender (like Veach) applies it in the look's process space and
 // hands that to the view.
 TEST(DisplayTransform, BlenderConfigMatchesBlendersOwnImages) {
-    if (!fs::exists(k_blender_config)) GTEST_SKIP() << "blender-data not installed (" << k_blender_config << ")";
+    ASSERT_TRUE(fs::exists(k_blender_config)) << "blender-data not installed (" << k_blender_config << ")";
     const fs::path data = fs::path(VEACH_OUTPUT_DATA_DIR) / "blender_views";
     struct Case {
         const char* stem;
