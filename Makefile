@@ -4,6 +4,7 @@
 #   make install PREFIX=/opt/veach  headers, libveach, CMake package, veach.pc, `veach`, the add-on
 #   make test-sanitize  the whole suite under ASan + UBSan (build-sanitize/, reduced sample counts)
 #   make fuzz FUZZ_SECONDS=N  libFuzzer on the importer (build-fuzz/, clang 14)
+#   make gallery  render examples/gallery and write its contact sheet, docs/gallery.png
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
@@ -12,7 +13,7 @@ SANITIZE_DIR ?= build-sanitize
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build render test test-sanitize fuzz bench install clean
+.PHONY: all deps configure build render test test-sanitize fuzz bench gallery install clean
 
 all: build
 
@@ -57,6 +58,11 @@ fuzz:
 	@ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1 $(FUZZ_DIR)/fuzz/veach_fuzz_importer \
 	  $(FUZZ_DIR)/corpus fuzz/corpus -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
 	  -max_len=65536 -artifact_prefix=$(FUZZ_DIR)/findings/ -print_final_stats=1
+
+# About ten minutes on two cores; GALLERY_SPP_SCALE=0.1 for a quick look (not for committing).
+GALLERY_SPP_SCALE ?= 1
+gallery: build
+	@/usr/bin/python3 scripts/gallery.py --veach $(BUILD_DIR)/veach --spp-scale $(GALLERY_SPP_SCALE)
 
 bench: build
 	@bash scripts/install-deps.sh --bench

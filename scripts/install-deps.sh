@@ -16,6 +16,7 @@ packages=(
   blender  # the add-on's headless test (tests/api/check_blender.py); ~23 MB download, with its
            # glTF exporter (which needs python3-numpy, above)
   assimp-testmodels
+  fonts-dejavu-core  # the titles of `make gallery`'s contact sheet
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(blender gnuplot-nox)
