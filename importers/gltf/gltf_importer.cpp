@@ -20,6 +20,7 @@
 
 #include "importers/gltf/gltf_accessors.h"
 #include "importers/gltf/gltf_draco.h"
+#include "importers/gltf/gltf_extensions.h"
 #include "importers/gltf/gltf_materials.h"
 #include "scene/mesh_tangents.h"
 
@@ -35,22 +36,6 @@ constexpr size_t k_max_node_visits = size_t(1) << 20;
 // to exhaust the stack before it gets there.
 constexpr int k_max_json_nesting = 512;
 constexpr uint64_t k_max_file_bytes = UINT_MAX;  // tinygltf takes 32-bit lengths
-
-// Extensions we read, and ones whose data we don't use yet but whose absence of support doesn't
-// change what a file means when they are only "used" (a plain material is the fallback).
-constexpr std::string_view k_supported_extensions[] = {
-    "KHR_lights_punctual",   "KHR_materials_emissive_strength", "KHR_materials_ior",      "KHR_materials_specular",
-    "KHR_texture_transform", "KHR_mesh_quantization",           "KHR_materials_variants", "KHR_draco_mesh_compression"};
-constexpr std::string_view k_planned_extensions[] = {"KHR_materials_transmission", "KHR_materials_volume",
-                                                     "KHR_materials_clearcoat", "KHR_materials_sheen",
-                                                     "KHR_materials_unlit"};
-
-template <size_t N>
-bool contains(const std::string_view (&list)[N], const std::string& name) {
-    for (std::string_view s : list)
-        if (s == name) return true;
-    return false;
-}
 
 // Messages are one short line: tinygltf's errors come as several lines and may quote whole
 // base64 data URIs or the raw bytes near a JSON syntax error.
@@ -305,10 +290,9 @@ void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
 
 void GltfImporter::check_extensions() {
     for (const std::string& name : m_model.extensionsRequired)
-        if (!contains(k_supported_extensions, name)) throw GltfError("requires unsupported extension " + name);
+        if (!gltf::is_supported_extension(name)) throw GltfError("requires unsupported extension " + name);
     for (const std::string& name : m_model.extensionsUsed)
-        if (!contains(k_supported_extensions, name) && !contains(k_planned_extensions, name))
-            m_context->warn("ignoring unsupported extension " + name);
+        if (!gltf::is_supported_extension(name)) m_context->warn("ignoring unsupported extension " + name);
     if (!m_options.variant.empty()) {
         // KHR_materials_variants: the root lists variant names; a name the file lacks is bad input.
         std::string known;

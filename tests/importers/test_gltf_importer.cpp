@@ -6,10 +6,13 @@
 #include "materials/texture_sampling.h"
 
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <set>
 #include <thread>
 
 #include "gltf_test_builder.h"
+#include "importers/gltf/gltf_extensions.h"
 #include "importers/importer.h"
 
 namespace veach {
@@ -665,6 +668,49 @@ TEST(GltfImporterErrors, NonFiniteTransform) {
 TEST(GltfImporterErrors, UnknownRequiredExtension) {
     std::string msg = expect_import_error(fs::path(data_dir()) / "unknown_required_extension.gltf");
     EXPECT_NE(msg.find("requires unsupported extension EXT_meshopt_compression"), std::string::npos) << msg;
+}
+
+// One list decides what a file may require: every extension the importer reads is accepted in
+// extensionsRequired (today's implemented-but-unlisted ones were refused), and README's table
+// marks exactly those "yes".
+TEST(GltfImporter, EverySupportedExtensionMayBeRequired) {
+    for (std::string_view name : gltf::supported_extensions()) {
+        GltfBuilder b = triangle_scene();
+        b.doc["extensionsUsed"] = {std::string(name)};
+        b.doc["extensionsRequired"] = {std::string(name)};
+        EXPECT_EQ(load(b).meshes.size(), 1u) << name;
+    }
+    EXPECT_TRUE(gltf::is_supported_extension("KHR_materials_transmission"));
+    EXPECT_FALSE(gltf::is_supported_extension("EXT_meshopt_compression"));
+}
+
+TEST(GltfImporter, ReadmeExtensionTableIsTheSupportedList) {
+    std::ifstream readme(VEACH_SOURCE_DIR "/README.md");
+    ASSERT_TRUE(readme.good());
+    std::set<std::string> yes, listed;
+    std::string line;
+    while (std::getline(readme, line)) {
+        // Rows of the extension table: "  | KHR_x | yes | note |" (README indents it in a list).
+        size_t start = line.find("| KHR_"), ext = line.find("| EXT_");
+        if (start == std::string::npos) start = ext;
+        if (start == std::string::npos || line.find_first_not_of(' ') != start) continue;
+        size_t name_end = line.find('|', start + 1);
+        size_t support_end = line.find('|', name_end + 1);
+        ASSERT_NE(support_end, std::string::npos) << line;
+        auto trim = [](std::string t) {
+            t.erase(0, t.find_first_not_of(' '));
+            t.erase(t.find_last_not_of(' ') + 1);
+            return t;
+        };
+        std::string name = trim(line.substr(start + 1, name_end - start - 1));
+        std::string support = trim(line.substr(name_end + 1, support_end - name_end - 1));
+        EXPECT_TRUE(support == "yes" || support == "no") << line;
+        listed.insert(name);
+        if (support == "yes") yes.insert(name);
+    }
+    std::set<std::string> supported(gltf::supported_extensions().begin(), gltf::supported_extensions().end());
+    EXPECT_EQ(yes, supported);
+    EXPECT_GE(listed.size(), 20u) << "README lists the ratified extensions, supported or not";
 }
 
 TEST(GltfImporterErrors, MissingBin) { expect_import_error(fs::path(data_dir()) / "missing_bin.gltf"); }
