@@ -1,11 +1,13 @@
-# The render engine: F12 or `blender -b file.blend -E VEACH -f 1`.
+# The render engine: F12, Render Animation, `blender -b file.blend -E VEACH -f 1` and `-a`.
 #
-# Blender hands us the evaluated scene; rather than walk it ourselves we export it with Blender's
-# own glTF exporter (modifiers applied, lights and cameras on, renderable objects only), so the
-# add-on renders exactly what `veach render` renders for the same export. The render runs on
-# libveach's own thread (veachRenderAsync); this thread polls it every 100 ms to report progress
-# and to pass Esc (test_break) on as a cancel. Pixels come back scene-linear and go into the
-# Combined pass untouched: Blender's colour management then applies the user's view transform.
+# Blender hands render() the depsgraph of one frame, evaluated for rendering. gltf_export walks
+# it into a glTF file in a temporary folder (every object instance as it is at that frame:
+# modifiers, poses, shape keys, instances; the scene camera; Blender's lights) and world.py turns
+# the World into the library's environment options; libveach loads both and renders on its own
+# thread (veachRenderAsync) while this thread reports progress and passes Esc (test_break) on as
+# a cancel. Pixels come back scene-linear and go into the RenderResult untouched: Blender's
+# colour management then applies the user's view transform. What the export could not carry, and
+# the library's own scene warnings, are reported through self.report, one WARNING per kind.
 import os
 import tempfile
 import time
@@ -13,7 +15,7 @@ import time
 import bpy
 import numpy as np
 
-from . import library
+from . import gltf_export, library, world
 from .properties import VeachSceneSettings  # noqa: F401 (scene.veach's type)
 
 # The outcome of the last render in this Blender session ("done", "cancelled", "failed: ..."),
@@ -30,6 +32,11 @@ def addon_preferences(context):
     return addon.preferences if addon else None
 
 
+def render_size(scene):
+    scale = scene.render.resolution_percentage / 100.0
+    return max(1, int(scene.render.resolution_x * scale)), max(1, int(scene.render.resolution_y * scale))
+
+
 class VeachRenderEngine(bpy.types.RenderEngine):
     bl_idname = "VEACH"
     bl_label = "Veach"
@@ -43,25 +50,33 @@ class VeachRenderEngine(bpy.types.RenderEngine):
 
     def render(self, depsgraph):
         global last_status
-        scene = depsgraph.scene
-        scale = scene.render.resolution_percentage / 100.0
-        width = max(1, int(scene.render.resolution_x * scale))
-        height = max(1, int(scene.render.resolution_y * scale))
+        scene = depsgraph.scene_eval
+        width, height = render_size(scene)
         try:
             with tempfile.TemporaryDirectory(prefix="veach_blender_") as tmp:
-                glb = os.path.join(tmp, "scene.glb")
-                self.update_stats("", "Veach | Exporting the scene to glTF")
-                export_gltf(glb)
-                last_status = self.render_glb(scene, depsgraph.view_layer, glb, width, height)
+                self.update_stats("", "Veach | Exporting the scene")
+                path = os.path.join(tmp, "frame.gltf")
+                export = gltf_export.export_frame_gltf(depsgraph, path, width, height)
+                options = {"spot_falloff": "blender", "allow_external_files": 1}
+                options.update(world.environment_options(scene.world, export, tmp))
+                for message in export.warnings.values():
+                    self.report({"WARNING"}, f"Veach: {message}")
+                if os.environ.get("VEACH_BLENDER_KEEP_EXPORT"):  # for debugging an export
+                    import shutil
+                    shutil.copytree(tmp, os.environ["VEACH_BLENDER_KEEP_EXPORT"], dirs_exist_ok=True)
+                last_status = self.render_scene(scene, depsgraph.view_layer, path, options, export, width, height)
         except Exception as e:  # a failed render must not take Blender down: report it
             last_status = f"failed: {e}"
             self.report({"ERROR"}, f"Veach: {e}")
 
-    def render_glb(self, scene, view_layer, glb, width, height):
+    def render_scene(self, scene, view_layer, path, scene_options, export, width, height):
         prefs = addon_preferences(bpy.context)
         lib = library.load(prefs.library_path if prefs else "")
-        job = library.Render(lib, glb)
+        job = library.Render(lib, path, scene_options)
         try:
+            for line in job.scene_string("warnings").splitlines():
+                if line.strip():
+                    self.report({"WARNING"}, f"Veach: {line.strip()}")
             settings = scene.veach
             job.set("width", width)
             job.set("height", height)
@@ -73,9 +88,8 @@ class VeachRenderEngine(bpy.types.RenderEngine):
             job.set("threads", render_threads(scene))
             job.set("filter", settings.filter_type)
             job.set("filter_width", float(scene.render.filter_size))
-            camera = pick_camera(scene, job.camera_names())
-            if camera is not None:
-                job.set("camera", camera)
+            if export.camera_name and export.camera_name in job.camera_names():
+                job.set("camera", export.camera_name)
             want_depth = bool(view_layer.use_pass_z)
             job.set("aovs", 1 if want_depth else 0)
 
@@ -118,23 +132,6 @@ def read_pass(job, name, width, height):
     pixels = np.empty((height, width, 4), dtype=np.float32)
     job.get_pass(name, pixels.ctypes.data)
     return np.ascontiguousarray(pixels[::-1]).reshape(-1, 4)
-
-
-def export_gltf(path):
-    bpy.ops.export_scene.gltf(filepath=path, export_format="GLB", export_apply=True, export_lights=True,
-                              export_cameras=True, use_renderable=True, use_selection=False,
-                              use_visible=False, export_extras=False, export_animations=False)
-
-
-def pick_camera(scene, names):
-    """The scene camera's name as the glTF exporter wrote it (the camera data's name)."""
-    cam = scene.camera
-    if cam is None or not names:
-        return None
-    for candidate in (cam.data.name, cam.name):
-        if candidate in names:
-            return candidate
-    return None
 
 
 def render_threads(scene):

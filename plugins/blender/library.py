@@ -73,6 +73,12 @@ def declare(lib):
         "veachNewSceneFromFile": (P, [P, c.c_char_p]),
         "veachNewSceneFromMemory": (P, [P, c.c_void_p, c.c_size_t, c.c_char_p, c.c_char_p]),
         "veachReleaseScene": (None, [P]),
+        "veachNewScene": (P, [P]),
+        "veachSetSceneInt": (c.c_int, [P, c.c_char_p, c.c_longlong]),
+        "veachSetSceneFloat": (c.c_int, [P, c.c_char_p, c.c_double]),
+        "veachSetSceneString": (c.c_int, [P, c.c_char_p, c.c_char_p]),
+        "veachLoadSceneFile": (c.c_int, [P, c.c_char_p]),
+        "veachGetSceneString": (c.c_int, [P, c.c_char_p, c.c_char_p, c.c_size_t, c.POINTER(c.c_size_t)]),
         "veachGetSceneCameraCount": (c.c_int, [P]),
         "veachGetSceneCameraName": (c.c_char_p, [P, c.c_int]),
         "veachNewRender": (P, [P]),
@@ -82,6 +88,7 @@ def declare(lib):
         "veachSetString": (c.c_int, [P, c.c_char_p, c.c_char_p]),
         "veachGetInt": (c.c_int, [P, c.c_char_p, c.POINTER(c.c_longlong)]),
         "veachGetFloat": (c.c_int, [P, c.c_char_p, c.POINTER(c.c_double)]),
+        "veachGetString": (c.c_int, [P, c.c_char_p, c.c_char_p, c.c_size_t, c.POINTER(c.c_size_t)]),
         "veachRenderAsync": (c.c_int, [P]),
         "veachWaitRender": (c.c_int, [P, c.c_int]),
         "veachCancelRender": (None, [P]),
@@ -94,14 +101,28 @@ def declare(lib):
 
 
 class Render:
-    """One scene and one render on it; the handles are released by close()."""
+    """One scene and one render on it; the handles are released by close(). scene_options are
+    the scene options set before the load (env_map, env_color, spot_falloff, ...)."""
 
-    def __init__(self, lib, glb_path):
+    def __init__(self, lib, path, scene_options=None):
         self.lib = lib
         self.device = lib.veachNewDevice()
-        self.scene = lib.veachNewSceneFromFile(self.device, glb_path.encode())
+        self.scene = lib.veachNewScene(self.device)
         if not self.scene:
             self._raise()
+        try:
+            for name, value in (scene_options or {}).items():
+                key = name.encode()
+                if isinstance(value, str):
+                    self._check(lib.veachSetSceneString(self.scene, key, value.encode()))
+                elif isinstance(value, float):
+                    self._check(lib.veachSetSceneFloat(self.scene, key, value))
+                else:
+                    self._check(lib.veachSetSceneInt(self.scene, key, int(value)))
+            self._check(lib.veachLoadSceneFile(self.scene, path.encode()))
+        except VeachError:
+            self.close()
+            raise
         self.render = lib.veachNewRender(self.scene)
         if not self.render:
             self._raise()
@@ -119,6 +140,19 @@ class Render:
     def camera_names(self):
         n = self.lib.veachGetSceneCameraCount(self.scene)
         return [self.lib.veachGetSceneCameraName(self.scene, i).decode() for i in range(max(n, 0))]
+
+    def scene_string(self, name):
+        return self._string(self.lib.veachGetSceneString, self.scene, name)
+
+    def get_string(self, name):
+        return self._string(self.lib.veachGetString, self.render, name)
+
+    def _string(self, getter, handle, name):
+        length = ctypes.c_size_t(0)
+        self._check(getter(handle, name.encode(), None, 0, ctypes.byref(length)))
+        buffer = ctypes.create_string_buffer(length.value + 1)
+        self._check(getter(handle, name.encode(), buffer, length.value + 1, None))
+        return buffer.value.decode(errors="replace")
 
     def set(self, name, value):
         key = name.encode()

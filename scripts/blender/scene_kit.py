@@ -392,6 +392,40 @@ def shape_key(obj, name, offset):
     return key
 
 
+def bone_chain(name, mesh_object, joints):
+    """An armature of bones joint[0]->joint[1]->... (bone k is named "bone<k>"), deforming
+    mesh_object through an Armature modifier: each vertex follows the bone whose segment is
+    nearest, so a pose bends the mesh at the joints. Returns the armature object; pose it with
+    keyframes(obj.pose.bones["bone1"], "rotation_euler", {...})."""
+    data = bpy.data.armatures.new(name)
+    rig = _link(bpy.data.objects.new(name, data))
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode='EDIT')
+    parent = None
+    for k in range(len(joints) - 1):
+        bone = data.edit_bones.new("bone%d" % k)
+        bone.head, bone.tail = Vector(joints[k]), Vector(joints[k + 1])
+        if parent is not None:
+            bone.parent, bone.use_connect = parent, True
+        parent = bone
+    bpy.ops.object.mode_set(mode='OBJECT')
+    segments = [(Vector(joints[k]), Vector(joints[k + 1])) for k in range(len(joints) - 1)]
+    groups = [mesh_object.vertex_groups.new(name="bone%d" % k) for k in range(len(segments))]
+    world = mesh_object.matrix_world
+    for vertex in mesh_object.data.vertices:
+        p = world @ vertex.co
+        distances = []
+        for a, b in segments:
+            t = max(0.0, min(1.0, (p - a).dot(b - a) / (b - a).length_squared))
+            distances.append((p - (a + t * (b - a))).length)
+        groups[distances.index(min(distances))].add([vertex.index], 1.0, 'REPLACE')
+    modifier = mesh_object.modifiers.new("Armature", 'ARMATURE')
+    modifier.object = rig
+    for bone in rig.pose.bones:
+        bone.rotation_mode = 'XYZ'
+    return rig
+
+
 def is_animated():
     """True when anything in the file is keyed (objects, shape keys, materials, lights, World)."""
     collections = (bpy.data.objects, bpy.data.shape_keys, bpy.data.materials, bpy.data.lights,

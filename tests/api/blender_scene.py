@@ -1,5 +1,5 @@
 # Runs inside Blender (blender -b --factory-startup --python blender_scene.py -- OUT_DIR ADDONS_DIR):
-# builds a small scene, exports it to OUT_DIR/scene.glb exactly as the add-on does, renders it with
+# builds a small scene, exports it to OUT_DIR/scene.gltf exactly as the add-on does, renders it with
 # the VEACH engine to OUT_DIR/blender.exr (multilayer: Combined and Depth), then renders again with
 # a huge sample count and a simulated Esc after 0.5 s to check that cancel stops the render.
 # Writes what it saw to OUT_DIR/blender.json for check_blender.py.
@@ -40,7 +40,9 @@ scene.veach.seed = 3
 scene.veach.filter_type = "blackman-harris"
 bpy.context.view_layer.use_pass_z = True
 
-veach.engine.export_gltf(os.path.join(out_dir, "scene.glb"))
+# The factory World's grey would light the add-on's render but not the CLI's (glTF has no World).
+scene.world = None
+veach.gltf_export.export_frame_gltf(bpy.context.evaluated_depsgraph_get(), os.path.join(out_dir, "scene.gltf"))
 
 scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
 scene.render.image_settings.color_depth = "32"

@@ -61,7 +61,7 @@ def main():
             sys.exit(f"FAIL: the add-on's render did not finish: {report['render_status']}")
 
         cli_exr = os.path.join(tmp, "cli.exr")
-        p = subprocess.run([args.veach, "render", os.path.join(tmp, "scene.glb"), "-o", cli_exr, "--width", "64",
+        p = subprocess.run([args.veach, "render", os.path.join(tmp, "scene.gltf"), "-o", cli_exr, "--width", "64",
                             "--height", "48", "--spp", "32", "--integrator", "pt", "--seed", "3", "--filter",
                             "blackman-harris", "--filter-width", "1.5", "--quiet"], capture_output=True, text=True,
                            timeout=120)

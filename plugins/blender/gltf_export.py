@@ -1,0 +1,304 @@
+# One frame of the evaluated scene as a glTF file: export_frame_gltf(depsgraph, path).
+#
+# The add-on walks the depsgraph Blender hands to RenderEngine.render() itself instead of running
+# Blender's glTF export operator. The operator needs a window context that render() does not
+# have (`blender -b file.blend -f 1` fails inside it), evaluates the view layer's viewport
+# depsgraph rather than the render one, and exports armature-deformed and shape-keyed meshes in
+# their rest shape (as skins and morph targets). Here every object instance of the render
+# depsgraph is written as it is at this frame: meshes with modifiers, armature poses, shape keys
+# and geometry nodes applied (obj.to_mesh() of the evaluated object), instances (collections,
+# particles, geometry nodes) as nodes sharing one mesh, the scene camera, and the lights glTF's
+# KHR_lights_punctual carries, in the units Blender's own exporter writes (which libveach's
+# importer reads back as Blender means them). Materials are converted by materials.py.
+#
+# What cannot be carried goes into Export.warnings, one message per kind, for self.report.
+# Hooks: functions in post_export_hooks are called as hook(gltf, depsgraph, export) on the glTF
+# JSON (a dict) before it is written, so other converters (lights glTF lacks) can add to it.
+import json
+import math
+import os
+
+import numpy as np
+
+from . import materials
+
+# Blender is Z up, glTF Y up: glTF (x, y, z) = Blender (x, z, -y).
+TO_GLTF = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)
+# Blender's exporter: W to candela for point and spot lights, W/m^2 to lux for the sun.
+WATTS_TO_LUMENS = 683.0
+GENERATOR = "Veach Blender add-on (Khronos glTF Blender I/O conventions)"
+
+post_export_hooks = []
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
+
+
+class Export:
+    """What one export produced: the glTF JSON, the camera's node name, and the warnings."""
+
+    def __init__(self):
+        self.gltf = None
+        self.camera_name = None
+        self.warnings = {}  # kind -> message, first occurrence wins
+
+    def warn(self, kind, message):
+        self.warnings.setdefault(kind, message)
+
+
+class Writer:
+    """Accumulates the binary buffer, accessors and buffer views."""
+
+    def __init__(self):
+        self.blob = bytearray()
+        self.views = []
+        self.accessors = []
+
+    def add(self, array, component, kind, target=None, bounds=False):
+        data = np.ascontiguousarray(array)
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        view = {"buffer": 0, "byteOffset": len(self.blob), "byteLength": data.nbytes}
+        if target:
+            view["target"] = target
+        self.blob += data.tobytes()
+        self.views.append(view)
+        accessor = {"bufferView": len(self.views) - 1, "componentType": component,
+                    "count": int(data.shape[0]), "type": kind}
+        if bounds:
+            accessor["min"] = data.min(axis=0).tolist()
+            accessor["max"] = data.max(axis=0).tolist()
+        self.accessors.append(accessor)
+        return len(self.accessors) - 1
+
+
+def matrix_array(m):
+    return np.array([list(row) for row in m], dtype=np.float64)
+
+
+def column_major(m):
+    return [float(x) for x in m.T.ravel()]
+
+
+def object_matrix(m):
+    """A mesh's world matrix in glTF space (its vertices are converted too)."""
+    return TO_GLTF @ m @ TO_GLTF.T
+
+
+def frame_matrix(m):
+    """A camera's or light's world matrix in glTF space: both look down their local -Z with +Y
+    up in Blender and in glTF, so only the world axes change; scale is dropped."""
+    g = TO_GLTF @ m
+    for c in range(3):
+        length = np.linalg.norm(g[:3, c])
+        if length > 0:
+            g[:3, c] /= length
+    return g
+
+
+def mesh_arrays(mesh):
+    """Per-corner positions, normals and UVs of the triangulated mesh, the triangles' corners and
+    material indices, as numpy arrays (Blender 3.x and 4.x spell loop normals differently)."""
+    mesh.calc_loop_triangles()
+    n_tri = len(mesh.loop_triangles)
+    if n_tri == 0:
+        return None
+    tri_loops = np.empty(n_tri * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", tri_loops)
+    tri_material = np.empty(n_tri, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("material_index", tri_material)
+    n_loops = len(mesh.loops)
+    loop_vertex = np.empty(n_loops, dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    normals = np.empty(n_loops * 3, dtype=np.float32)
+    if hasattr(mesh, "corner_normals"):  # Blender 4.1+
+        mesh.corner_normals.foreach_get("vector", normals)
+    else:
+        if hasattr(mesh, "calc_normals_split"):
+            mesh.calc_normals_split()
+        mesh.loops.foreach_get("normal", normals)
+    uv = None
+    layer = next((l for l in mesh.uv_layers if l.active_render), mesh.uv_layers.active)
+    if layer is not None:
+        uv = np.empty(n_loops * 2, dtype=np.float32)
+        layer.data.foreach_get("uv", uv)
+        uv = uv.reshape(-1, 2)
+        uv[:, 1] = 1.0 - uv[:, 1]  # glTF's V runs down the image
+    positions = co.reshape(-1, 3)[loop_vertex]
+    # Blender (x, y, z) -> glTF (x, z, -y) for positions and normals alike.
+    positions = np.stack([positions[:, 0], positions[:, 2], -positions[:, 1]], axis=1)
+    normals = normals.reshape(-1, 3)
+    normals = np.stack([normals[:, 0], normals[:, 2], -normals[:, 1]], axis=1)
+    return positions, normals, uv, tri_loops.reshape(-1, 3), tri_material
+
+
+def write_mesh(writer, gltf, name, arrays, material_ids):
+    """One glTF mesh, a primitive per material slot used; None when the mesh is empty."""
+    positions, normals, uv, triangles, tri_material = arrays
+    primitives = []
+    for slot in np.unique(tri_material):
+        corners = triangles[tri_material == slot].ravel()
+        used, indices = np.unique(corners, return_inverse=True)
+        attributes = {
+            "POSITION": writer.add(positions[used].astype(np.float32), 5126, "VEC3", 34962, bounds=True),
+            "NORMAL": writer.add(normals[used].astype(np.float32), 5126, "VEC3", 34962),
+        }
+        if uv is not None:
+            attributes["TEXCOORD_0"] = writer.add(uv[used].astype(np.float32), 5126, "VEC2", 34962)
+        primitive = {"attributes": attributes,
+                     "indices": writer.add(indices.astype(np.uint32), 5125, "SCALAR", 34963), "mode": 4}
+        slot = int(slot)
+        material = material_ids[min(slot, len(material_ids) - 1)] if material_ids else None
+        if material is not None:
+            primitive["material"] = material
+        primitives.append(primitive)
+    if not primitives:
+        return None
+    gltf["meshes"].append({"name": name, "primitives": primitives})
+    return len(gltf["meshes"]) - 1
+
+
+def camera_entry(camera, width, height, export):
+    """glTF's camera for Blender's camera data at this aspect ratio (sensor fit applied)."""
+    aspect = width / height
+    if camera.type == "ORTHO":
+        fit_x = camera.sensor_fit == "HORIZONTAL" or (camera.sensor_fit == "AUTO" and aspect >= 1)
+        half = camera.ortho_scale / 2
+        xmag, ymag = (half, half / aspect) if fit_x else (half * aspect, half)
+        return {"type": "orthographic",
+                "orthographic": {"xmag": xmag, "ymag": ymag, "znear": camera.clip_start,
+                                 "zfar": camera.clip_end}}
+    if camera.type != "PERSP":
+        export.warn("camera", f"camera type {camera.type} is rendered as a perspective camera")
+    if camera.shift_x or camera.shift_y:
+        export.warn("camera shift", "camera shift is not carried over (the view is centred)")
+    if camera.dof.use_dof:
+        export.warn("depth of field", "depth of field is not carried over (everything is in focus)")
+    if camera.sensor_fit == "VERTICAL":
+        yfov = 2 * math.atan(camera.sensor_height / (2 * camera.lens))
+    elif camera.sensor_fit == "HORIZONTAL" or aspect >= 1:
+        yfov = 2 * math.atan(camera.sensor_width / (2 * camera.lens) / aspect)
+    else:
+        yfov = 2 * math.atan(camera.sensor_width / (2 * camera.lens))
+    return {"type": "perspective",
+            "perspective": {"yfov": yfov, "aspectRatio": aspect, "znear": camera.clip_start,
+                            "zfar": camera.clip_end}}
+
+
+def light_entry(light, export):
+    """KHR_lights_punctual's light for a Blender point, spot or sun; None for the others."""
+    color = [float(c) for c in light.color]
+    if light.type == "SUN":
+        if light.angle > 0:
+            export.warn("sun angle", "sun angle is not carried over (hard shadows)")
+        return {"type": "directional", "color": color, "intensity": light.energy * WATTS_TO_LUMENS}
+    if light.type in ("POINT", "SPOT"):
+        if light.shadow_soft_size > 0:
+            export.warn("light radius", "point and spot light radius is not carried over (hard shadows)")
+        entry = {"type": "point", "color": color, "intensity": light.energy * WATTS_TO_LUMENS / (4 * math.pi)}
+        if light.type == "SPOT":
+            outer = light.spot_size / 2
+            entry["type"] = "spot"
+            entry["spot"] = {"outerConeAngle": outer, "innerConeAngle": outer * (1 - light.spot_blend)}
+        return entry
+    export.warn("area light", f"{light.type.lower()} lights are not carried over (dropped)")
+    return None
+
+
+def export_frame_gltf(depsgraph, path, width=None, height=None):
+    """Writes the depsgraph's scene at its frame to path (.gltf) and path's .bin beside it;
+    returns an Export. width and height (the render's) set the camera's aspect ratio."""
+    export = Export()
+    scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
+    if width is None or height is None:
+        scale = scene.render.resolution_percentage / 100.0
+        width = max(1, int(scene.render.resolution_x * scale))
+        height = max(1, int(scene.render.resolution_y * scale))
+    gltf = {"asset": {"version": "2.0", "generator": GENERATOR}, "scene": 0,
+            "scenes": [{"name": scene.name, "nodes": []}], "nodes": [], "meshes": [], "materials": [],
+            "cameras": [], "extensionsUsed": []}
+    writer = Writer()
+    converter = materials.MaterialConverter(gltf, export, os.path.dirname(os.path.abspath(path)))
+    lights = []
+    meshes = {}  # key -> glTF mesh index (None: empty), shared by the instances of one object
+    roots = gltf["scenes"][0]["nodes"]
+
+    def add_node(node):
+        gltf["nodes"].append(node)
+        roots.append(len(gltf["nodes"]) - 1)
+
+    camera_object = scene.camera
+    for instance in depsgraph.object_instances:
+        obj = instance.object
+        if not instance.is_instance and not getattr(instance, "show_self", True):
+            continue
+        world = matrix_array(instance.matrix_world)
+        if obj.type in GEOMETRY_TYPES:
+            key = (obj.name, obj.data.as_pointer() if obj.data else 0, instance.is_instance)
+            if key not in meshes:
+                meshes[key] = mesh_for_object(obj, writer, gltf, converter, export)
+            if meshes[key] is not None:
+                add_node({"name": obj.name, "mesh": meshes[key], "matrix": column_major(object_matrix(world))})
+        elif obj.type == "LIGHT":
+            entry = light_entry(obj.data, export)
+            if entry is not None:
+                entry["name"] = obj.name
+                lights.append(entry)
+                add_node({"name": obj.name, "matrix": column_major(frame_matrix(world)),
+                          "extensions": {"KHR_lights_punctual": {"light": len(lights) - 1}}})
+        elif obj.type == "CAMERA":
+            if camera_object is not None and obj.original == camera_object.original and not instance.is_instance:
+                gltf["cameras"].append(camera_entry(obj.data, width, height, export))
+                export.camera_name = obj.name
+                add_node({"name": obj.name, "camera": len(gltf["cameras"]) - 1,
+                          "matrix": column_major(frame_matrix(world))})
+        elif obj.type in ("CURVES", "HAIR"):
+            export.warn("hair", "hair curves are not carried over (dropped)")
+        elif obj.type == "VOLUME":
+            export.warn("volume object", "volume objects are not carried over (dropped)")
+        if obj.type == "MESH" and not instance.is_instance and any(
+                p.settings.type == "HAIR" and p.settings.render_type == "PATH"
+                for p in getattr(obj, "particle_systems", [])):
+            export.warn("hair", "hair particles are not carried over (dropped)")
+    if camera_object is None:
+        export.warn("camera", "the scene has no camera")
+    if lights:
+        gltf["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
+        gltf["extensionsUsed"].append("KHR_lights_punctual")
+    gltf["accessors"], gltf["bufferViews"] = writer.accessors, writer.views
+    bin_name = os.path.splitext(os.path.basename(path))[0] + ".bin"
+    gltf["buffers"] = [{"uri": bin_name, "byteLength": len(writer.blob)}]
+    for key in ("meshes", "materials", "cameras", "extensionsUsed", "images", "textures", "samplers"):
+        if key in gltf and not gltf[key]:
+            del gltf[key]
+    for hook in post_export_hooks:
+        hook(gltf, depsgraph, export)
+    if not writer.blob:
+        gltf.pop("buffers")
+        gltf.pop("accessors")
+        gltf.pop("bufferViews")
+    else:
+        with open(os.path.join(os.path.dirname(os.path.abspath(path)), bin_name), "wb") as f:
+            f.write(writer.blob)
+    with open(path, "w") as f:
+        json.dump(gltf, f)
+    export.gltf = gltf
+    return export
+
+
+def mesh_for_object(obj, writer, gltf, converter, export):
+    try:
+        mesh = obj.to_mesh()
+    except RuntimeError:
+        return None
+    if mesh is None:
+        return None
+    try:
+        arrays = mesh_arrays(mesh)
+        if arrays is None:
+            return None
+        material_ids = [converter.material(slot.material) for slot in obj.material_slots]
+        return write_mesh(writer, gltf, obj.name, arrays, material_ids)
+    finally:
+        obj.to_mesh_clear()
