@@ -99,8 +99,39 @@ def save_images(out):
             continue
         extension = IMAGE_EXTENSIONS[image.file_format]
         image.filepath_raw = os.path.join(out, image.name + extension)
+        if image.file_format == 'HDR':
+            # Blender 3.4's image.save() of a generated float image set to HDR goes through an
+            # 8-bit buffer (sRGB-decoded and clamped to 1); write the float values ourselves and
+            # reload, so that the reference render sees the file's (RGBE-rounded) pixels.
+            write_radiance_hdr(image.filepath_raw, image.size[0], image.size[1], image.pixels[:])
+            image.source = 'FILE'
+            image.reload()
+            continue
         image.save()
+        # Without the reload the .blend keeps the image as GENERATED (a blank image to any later
+        # Blender, which would not render what the reference shows).
         image.source = 'FILE'
+        image.reload()
+
+
+def write_radiance_hdr(path, width, height, rgba):
+    """A Radiance .hdr of flat RGBE scanlines, top row first, from Blender's bottom-up RGBA."""
+    import numpy as np
+    rgb = np.asarray(rgba, dtype=np.float64).reshape(height, width, 4)[::-1, :, :3].reshape(-1, 3)
+    rgb = np.maximum(rgb, 0.0)
+    peak = rgb.max(axis=1)
+    mantissa, exponent = np.frexp(peak)
+    scale = np.where(peak > 1e-32, mantissa * 256.0 / np.maximum(peak, 1e-38), 0.0)
+    rgbe = np.zeros((rgb.shape[0], 4), dtype=np.uint8)
+    rgbe[:, :3] = np.minimum(rgb * scale[:, None], 255).astype(np.uint8)
+    rgbe[:, 3] = np.where(peak > 1e-32, exponent + 128, 0)
+    rows = rgbe.reshape(height, width, 4)
+    # A scanline starting 2, 2, (b < 128) would read as run-length encoded: nudge that texel.
+    starts = (rows[:, 0, 0] == 2) & (rows[:, 0, 1] == 2) & (rows[:, 0, 2] < 128)
+    rows[starts, 0, 0] = 3
+    with open(path, "wb") as f:
+        f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (height, width))
+        f.write(rows.tobytes())
 
 
 def export_gltf(path, animated):
