@@ -76,6 +76,7 @@ class MaterialConverter:
         self.images = {}
         self.textures = {}
         self.default = None
+        self.reported_images = set()  # Image Texture nodes whose image was dropped (warned once)
 
     def use_extension(self, name):
         if name not in self.gltf["extensionsUsed"]:
@@ -108,7 +109,7 @@ class MaterialConverter:
     def value(self, s, what):
         """The input's own value; a link into it that is not carried over is warned about."""
         node, _ = linked_from(s)
-        if node is not None:
+        if node is not None and node not in self.reported_images:
             self.warn_node(node, what)
         return s.default_value
 
@@ -142,7 +143,10 @@ class MaterialConverter:
             self.warn_node(node, what)
             return None
         index = self.image_texture(node, what)
-        return {"index": index} if index is not None else None
+        if index is None:
+            self.reported_images.add(node)
+            return None
+        return {"index": index}
 
     def image_texture(self, node, what):
         image = node.image

@@ -1,0 +1,74 @@
+#!/usr/bin/python3
+"""Committed .blend files (saved by the scene generator, another Blender process) rendered by the
+Blender add-on exactly as a user types it,
+  blender -b NAME.blend --addons veach -E VEACH -o //out_# -F OPEN_EXR -f 1
+and compared with the committed Cycles reference NAME.cycles.exr: channel means within 2% and
+16x16 block means within 5% (tests/tools/image_compare.py). For the World scenes this is what
+the add-on carries over beside the glTF: world_color's uniform colour x strength, world_hdri's
+equirectangular image, strength and Mapping rotation (a wrong rotation moves the warm patch that
+lights the scene, and the floor's shading and the background fail the blocks).
+Usage: check_blender_scenes.py --library LIBVEACH --addon plugins/blender --repo ROOT SCENE..."""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+MEAN_TOLERANCE = 0.02
+BLOCK_TOLERANCE = 0.05
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--library", required=True)
+    ap.add_argument("--addon", required=True)
+    ap.add_argument("--repo", required=True)
+    ap.add_argument("scenes", nargs="+")
+    args = ap.parse_args()
+    blender = shutil.which("blender")
+    if not blender:
+        sys.exit("FAIL: blender is not installed (scripts/install-deps.sh installs it)")
+    sys.path.insert(0, os.path.join(args.repo, "tests", "tools"))
+    import image_compare
+
+    tmp = tempfile.mkdtemp(prefix="veach_blender_scenes_")
+    failures = []
+    try:
+        scripts = os.path.join(tmp, "scripts")
+        os.makedirs(os.path.join(scripts, "addons"))
+        os.symlink(os.path.abspath(args.addon), os.path.join(scripts, "addons", "veach"))
+        env = dict(os.environ, BLENDER_USER_SCRIPTS=scripts, VEACH_LIBRARY=os.path.abspath(args.library))
+        for name in args.scenes:
+            work = os.path.join(tmp, name)
+            shutil.copytree(os.path.join(args.repo, "tests", "data", "scenes", name), work)
+            command = [blender, "-b", name + ".blend", "--addons", "veach", "-E", "VEACH", "-o", "//out_#",
+                       "-F", "OPEN_EXR", "-f", "1"]
+            # Blender takes the working directory from $PWD, as a shell sets it.
+            p = subprocess.run(command, cwd=work, env=dict(env, PWD=work), capture_output=True, text=True,
+                               timeout=300)
+            log = p.stdout + p.stderr
+            out = os.path.join(work, "out_1.exr")
+            if p.returncode != 0 or "Error" in log or "Traceback" in log or not os.path.exists(out):
+                failures.append(f"{name}: exit {p.returncode}\n$ {' '.join(command)}\n{log[-3000:]}")
+                continue
+            warnings = [line for line in log.splitlines() if "Veach:" in line]
+            result = image_compare.compare(image_compare.load(out),
+                                           image_compare.load(os.path.join(work, name + ".cycles.exr")))
+            worst = max(abs(m - 1) for m in result["mean"])
+            ok = worst <= MEAN_TOLERANCE and result["blocks"] <= BLOCK_TOLERANCE and result["nonfinite"] == 0
+            print(f"{name}: mean {' '.join('%.4f' % m for m in result['mean'])}, blocks {result['blocks']:.4f}, "
+                  f"relmse {result['relmse']:.4g}{'' if ok else '  <- FAIL'}")
+            for line in warnings:
+                print("   ", line.strip())
+            if not ok:
+                failures.append(f"{name}: differs from Cycles (mean {result['mean']}, blocks {result['blocks']:.4f})")
+        if failures:
+            sys.exit("FAIL:\n  " + "\n  ".join(failures))
+        print("PASS: the add-on's renders of the saved .blend files match Cycles'")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
