@@ -544,8 +544,11 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
             source = &image.albedo, channels = 3;
         else if (p == "variance")
             source = &image.variance, channels = 3;
+        else if (p == "samples")
+            source = &image.sample_count, channels = 1;
         else
-            throw invalid("veachGetPass: unknown pass '" + p + "' (known: combined, depth, normal, albedo, variance)");
+            throw invalid("veachGetPass: unknown pass '" + p +
+                          "' (known: combined, depth, normal, albedo, variance, samples)");
         const size_t pixels = static_cast<size_t>(image.width) * image.height;
         if (source->size() != pixels * channels)
             throw ApiError{VEACH_ERROR_INVALID_OPERATION,

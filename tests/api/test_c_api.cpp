@@ -205,6 +205,33 @@ TEST_F(CApi, DepthPassWhenAovsRequested) {
     veachReleaseScene(s);
 }
 
+TEST_F(CApi, SamplesPassCountsEachPixelsSamples) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    VeachRender r = new_cornell_render(s, 6);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    std::vector<float> samples(48 * 48 * 4);
+    ASSERT_EQ(veachGetPass(r, "samples", samples.data(), 0), VEACH_ERROR_NONE) << veachGetLastError();
+    // Without adaptive sampling every pixel averages exactly the samples asked for.
+    for (size_t i = 0; i < samples.size(); i += 4) {
+        ASSERT_EQ(samples[i], 6.0f) << "pixel " << i / 4;
+        ASSERT_EQ(samples[i + 3], 1.0f);
+    }
+    ASSERT_EQ(veachSetFloat(r, "noise", 0.5), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetInt(r, "spp", 64), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachGetPass(r, "samples", samples.data(), 0), VEACH_ERROR_NONE);
+    // A loose noise threshold stops some pixels early, never past the samples asked for.
+    float least = 1e9f, most = 0;
+    for (size_t i = 0; i < samples.size(); i += 4)
+        least = std::min(least, samples[i]), most = std::max(most, samples[i]);
+    EXPECT_LT(least, 64.0f);
+    EXPECT_LE(most, 64.0f);
+    EXPECT_GT(least, 0.0f);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
 TEST_F(CApi, SceneFromMemoryRendersLikeTheFile) {
     std::ifstream f(k_cornell, std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

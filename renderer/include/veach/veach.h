@@ -222,7 +222,9 @@ VEACH_API void veachCancelRender(VeachRender render);
  * rows `row_stride_bytes` apart (0 = result_width * 4 * sizeof(float)); `dst` holds result_height
  * rows. Passes: "combined" (alias "color"): RGBA scene-linear Rec.709; with aovs = 1 also "depth"
  * (z, z, z, 1: camera-space Z of the first hit, 1e10 where nothing was hit, as Blender's Z pass),
- * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1). */
+ * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1)
+ * and "samples" (since 0.3: the camera samples averaged into the pixel, n, n, n, 1: fewer than spp
+ * where adaptive sampling stopped the pixel early or a non-finite sample was dropped). */
 VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t row_stride_bytes);
 /* Writes the combined pass (and for EXR the `passes` option's layers) through the output driver:
  * format from the extension (.exr .hdr .png .jpg .tif); EXR/HDR scene-linear, PNG/JPEG/TIFF
