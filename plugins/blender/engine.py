@@ -10,12 +10,11 @@
 # the library's own scene warnings, are reported through self.report, one WARNING per kind.
 import os
 import tempfile
-import time
 
 import bpy
 import numpy as np
 
-from . import gltf_export, library, world
+from . import gltf_export, library, render_settings, world
 from .properties import VeachSceneSettings  # noqa: F401 (scene.veach's type)
 
 # The outcome of the last render in this Blender session ("done", "cancelled", "failed: ..."),
@@ -32,9 +31,28 @@ def addon_preferences(context):
     return addon.preferences if addon else None
 
 
-def render_size(scene):
-    scale = scene.render.resolution_percentage / 100.0
-    return max(1, int(scene.render.resolution_x * scale)), max(1, int(scene.render.resolution_y * scale))
+# Blender's passes: (name, channels, channel ids, type, libveach pass, enabled for a view layer).
+PASSES = [
+    ("Combined", 4, "RGBA", "COLOR", "combined", lambda layer: True),
+    ("Depth", 1, "Z", "VALUE", "depth", lambda layer: layer.use_pass_z),
+    ("Normal", 3, "XYZ", "VECTOR", "normal", lambda layer: layer.use_pass_normal),
+    ("Denoising Albedo", 3, "RGB", "COLOR", "albedo", lambda layer: layer.veach.use_pass_denoising_data),
+    ("Denoising Normal", 3, "XYZ", "VECTOR", "normal", lambda layer: layer.veach.use_pass_denoising_data),
+    ("Variance", 3, "RGB", "COLOR", "variance", lambda layer: layer.veach.use_pass_variance),
+    ("Sample Count", 1, "X", "VALUE", "samples", lambda layer: layer.veach.use_pass_sample_count),
+]
+AOV_PASSES = {"depth", "normal", "albedo"}  # the library records these only with aovs = 1
+
+
+def enabled_passes(view_layer):
+    return [p for p in PASSES if p[5](view_layer)]
+
+
+def progress_line(integrator, fraction, eta):
+    """The stats line: it changes only when the whole percent or the whole second of the ETA does,
+    and the ETA is unknown until the library has finished a pass of samples."""
+    eta_text = "unknown" if fraction <= 0 or eta < 0 or eta != eta else f"{eta:.0f} s"
+    return f"Veach | {integrator} | {int(fraction * 100)}% | ETA {eta_text}"
 
 
 class VeachRenderEngine(bpy.types.RenderEngine):
@@ -44,14 +62,13 @@ class VeachRenderEngine(bpy.types.RenderEngine):
     bl_use_postprocess = True
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
-        if renderlayer.use_pass_z:
-            self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
+        for name, channels, ids, kind, _, _ in enabled_passes(renderlayer):
+            self.register_pass(scene, renderlayer, name, channels, ids, kind)
 
     def render(self, depsgraph):
         global last_status
         scene = depsgraph.scene_eval
-        width, height = render_size(scene)
+        width, height = render_settings.full_size(scene)
         try:
             with tempfile.TemporaryDirectory(prefix="veach_blender_") as tmp:
                 self.update_stats("", "Veach | Exporting the scene")
@@ -59,6 +76,9 @@ class VeachRenderEngine(bpy.types.RenderEngine):
                 export = gltf_export.export_frame_gltf(depsgraph, path, width, height)
                 options = {"spot_falloff": "blender", "allow_external_files": 1}
                 options.update(world.environment_options(scene.world, export, tmp))
+                if scene.render.film_transparent:
+                    export.warn("film transparent", "Film > Transparent is not carried over (the background "
+                                                    "renders, alpha is 1)")
                 for message in export.warnings.values():
                     self.report({"WARNING"}, f"Veach: {message}")
                 if os.environ.get("VEACH_BLENDER_KEEP_EXPORT"):  # for debugging an export
@@ -77,61 +97,66 @@ class VeachRenderEngine(bpy.types.RenderEngine):
             for line in job.scene_string("warnings").splitlines():
                 if line.strip():
                     self.report({"WARNING"}, f"Veach: {line.strip()}")
-            settings = scene.veach
+            options = render_settings.render_options(scene)
             job.set("width", width)
             job.set("height", height)
-            job.set("spp", settings.samples)
-            job.set("time_limit", float(settings.time_limit))
-            job.set("integrator", settings.integrator)
-            job.set("max_depth", settings.max_depth)
-            job.set("seed", settings.seed)
+            for name, value in options.items():
+                job.set(name, value)
             job.set("threads", render_threads(scene))
-            job.set("filter", settings.filter_type)
-            job.set("filter_width", float(scene.render.filter_size))
             if export.camera_name and export.camera_name in job.camera_names():
                 job.set("camera", export.camera_name)
-            want_depth = bool(view_layer.use_pass_z)
-            job.set("aovs", 1 if want_depth else 0)
+            passes = enabled_passes(view_layer)
+            job.set("aovs", 1 if any(p[4] in AOV_PASSES for p in passes) else 0)
 
             job.start()
             cancelled = False
-            started = time.monotonic()
+            shown = None
             while job.wait(100) == library.STATUS_RUNNING:
                 if not cancelled and (self.test_break() or (external_cancel and external_cancel())):
                     job.cancel()
                     cancelled = True
                 fraction = job.get_float("progress")
-                eta = job.get_float("eta_seconds")
-                self.update_progress(fraction)
-                self.update_stats("", f"Veach | {settings.integrator} | {int(fraction * 100)}% | "
-                                      f"{time.monotonic() - started:.1f} s, ETA {eta:.1f} s")
+                line = progress_line(options["integrator"], fraction, job.get_float("eta_seconds"))
+                if line != shown:
+                    self.update_progress(fraction)
+                    self.update_stats("", line)
+                    shown = line
             status = job.wait(0)
             if status == library.STATUS_CANCELLED:
                 # Esc: Blender discards the result; a cancel from elsewhere keeps the partial image.
                 if self.test_break():
                     return "cancelled"
-            self.write_result(job, view_layer.name, width, height, want_depth)
+            for line in job.get_string("result_warnings").splitlines():
+                if line.strip():
+                    self.report({"WARNING"}, f"Veach: {line.strip()}")
+            self.write_result(job, view_layer.name, passes, render_settings.region(scene), width, height)
             return "cancelled" if status == library.STATUS_CANCELLED else "done"
         finally:
             job.close()
 
-    def write_result(self, job, layer_name, width, height, want_depth):
+    def write_result(self, job, layer_name, passes, region, width, height):
         w, h = job.get_int("result_width"), job.get_int("result_height")
-        # Blender calls render() once per view layer: fill that one.
-        result = self.begin_result(0, 0, width, height, layer=layer_name)
+        x, y, rw, rh = region or (0, 0, width, height)
+        # Blender calls render() once per view layer: fill that one. A border render's result is
+        # the region's size.
+        result = self.begin_result(0, 0, rw, rh, layer=layer_name)
         layer = result.layers[0]
         if (w, h) == (width, height):
-            layer.passes["Combined"].rect = read_pass(job, "combined", w, h)
-            if want_depth and "Depth" in layer.passes:
-                layer.passes["Depth"].rect = read_pass(job, "depth", w, h)[:, :1]
+            for name, channels, _, _, source, _ in passes:
+                if name in layer.passes:
+                    pixels = read_pass(job, source, w, h)[y:y + rh, x:x + rw]
+                    if source == "normal":  # the library's world is glTF's (Y up), Blender's is Z up
+                        pixels = np.stack([pixels[..., 0], -pixels[..., 2], pixels[..., 1], pixels[..., 3]], axis=-1)
+                    rows = np.ascontiguousarray(pixels[::-1]).reshape(-1, 4)
+                    layer.passes[name].rect = rows[:, :channels]
         self.end_result(result)
 
 
 def read_pass(job, name, width, height):
-    """The pass as Blender wants it: (pixels, 4) float32, rows from the bottom up."""
+    """The pass as the library gives it: (height, width, 4) float32, rows from the top down."""
     pixels = np.empty((height, width, 4), dtype=np.float32)
     job.get_pass(name, pixels.ctypes.data)
-    return np.ascontiguousarray(pixels[::-1]).reshape(-1, 4)
+    return pixels
 
 
 def render_threads(scene):
@@ -142,43 +167,81 @@ def render_threads(scene):
     return 0
 
 
+# Blender's own panels that apply to this engine as they are: the documented RenderEngine way
+# (every panel Blender's internal engines share), plus EEVEE's node-based material, world and light
+# panels, which show the shader nodes the add-on converts (as Cycles' own panels would).
+SHARED_PANELS = {
+    "EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface", "EEVEE_MATERIAL_PT_volume",
+    "EEVEE_WORLD_PT_surface", "DATA_PT_EEVEE_light", "DATA_PT_spot", "DATA_PT_camera_dof",
+    "RENDER_PT_format", "RENDER_PT_frame_range", "RENDER_PT_output", "RENDER_PT_color_management",
+    "RENDER_PT_color_management_curves", "RENDER_PT_post_processing", "RENDER_PT_stamp",
+    "VIEWLAYER_PT_layer", "RENDER_PT_encoding", "RENDER_PT_format_presets",
+}
+EXCLUDED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes"}  # Veach draws its own passes
+
+
 def get_panels():
-    """Blender's own panels that make sense for this engine (output, dimensions, colour
-    management, film filter size)."""
-    keep = {"RENDER_PT_format", "RENDER_PT_frame_range", "RENDER_PT_output", "RENDER_PT_color_management",
-            "RENDER_PT_color_management_curves", "VIEWLAYER_PT_layer_passes", "RENDER_PT_post_processing"}
-    return [p for p in bpy.types.Panel.__subclasses__()
-            if getattr(p, "COMPAT_ENGINES", None) is not None and p.__name__ in keep]
+    panels = []
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines is None or panel.__name__ in EXCLUDED_PANELS:
+            continue
+        if "BLENDER_RENDER" in engines or panel.__name__ in SHARED_PANELS:
+            panels.append(panel)
+    return panels
 
 
-class VEACH_PT_settings(bpy.types.Panel):
-    bl_label = "Veach"
+class VeachPanel:
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
-    bl_context = "render"
     COMPAT_ENGINES = {"VEACH"}
 
     @classmethod
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
 
+
+class VEACH_PT_settings(VeachPanel, bpy.types.Panel):
+    bl_label = "Veach"
+    bl_context = "render"
+
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
         settings = context.scene.veach
         layout.prop(settings, "integrator")
-        layout.prop(settings, "samples")
-        layout.prop(settings, "time_limit")
-        layout.prop(settings, "max_depth")
-        layout.prop(settings, "seed")
         layout.prop(settings, "threads")
-        layout.prop(settings, "filter_type")
-        layout.prop(context.scene.render, "filter_size")
+        layout.prop(settings, "use_cycles_settings")
+        column = layout.column()
+        column.active = not render_settings.uses_cycles(context.scene)
+        for name in ("samples", "time_limit", "noise_threshold", "max_depth", "seed", "use_animated_seed",
+                     "filter_type"):
+            column.prop(settings, name)
+        column.prop(context.scene.render, "filter_size")
+        layout.prop(context.scene.render, "film_transparent")
+
+
+class VEACH_PT_passes(VeachPanel, bpy.types.Panel):
+    bl_label = "Passes"
+    bl_context = "view_layer"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        view_layer = context.view_layer
+        layout.prop(view_layer, "use_pass_combined")
+        layout.prop(view_layer, "use_pass_z")
+        layout.prop(view_layer, "use_pass_normal")
+        for name in ("use_pass_denoising_data", "use_pass_variance", "use_pass_sample_count"):
+            layout.prop(view_layer.veach, name)
+
+
+classes = (VeachRenderEngine, VEACH_PT_settings, VEACH_PT_passes)
 
 
 def register():
-    bpy.utils.register_class(VeachRenderEngine)
-    bpy.utils.register_class(VEACH_PT_settings)
+    for c in classes:
+        bpy.utils.register_class(c)
     for panel in get_panels():
         panel.COMPAT_ENGINES.add("VEACH")
 
@@ -186,5 +249,5 @@ def register():
 def unregister():
     for panel in get_panels():
         panel.COMPAT_ENGINES.discard("VEACH")
-    bpy.utils.unregister_class(VEACH_PT_settings)
-    bpy.utils.unregister_class(VeachRenderEngine)
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)

@@ -186,6 +186,10 @@ def main(argv):
     scene.frame_set(scene.frame_start)
 
     save_images(out)
+    if getattr(definition, "BLEND_SAMPLES", None):
+        # The .blend asks its render engine (Cycles, and the Veach add-on, which follows Cycles'
+        # settings) for the reference's settings at fewer samples: what its tests render.
+        cycles_setup.unbiased_cycles(scene, samples=definition.BLEND_SAMPLES)
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, args.scene + ".blend"), compress=True,
                                 relative_remap=True)
     export_gltf(os.path.join(out, args.scene + ".gltf"), animated)

@@ -34,6 +34,7 @@ scene.collection.objects.link(sun_object)
 scene.render.engine = "VEACH"
 scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 64, 48, 100
 scene.render.filter_size = 1.5
+scene.veach.use_cycles_settings = False  # the Veach panel's own settings, as the CLI gets them
 scene.veach.samples = 32
 scene.veach.integrator = "pt"
 scene.veach.seed = 3
@@ -62,6 +63,13 @@ deadline[0] = t0 + 0.5
 bpy.ops.render.render(write_still=False)
 report["cancel_status"] = veach.engine.last_status
 report["cancel_seconds"] = time.monotonic() - t0
+
+# The panels a user expects show for the engine (Blender's own, registered as other engines do).
+report["panels_missing"] = [name for name in (
+    "RENDER_PT_format", "RENDER_PT_output", "RENDER_PT_frame_range", "RENDER_PT_color_management",
+    "DATA_PT_lens", "DATA_PT_camera", "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface",
+    "DATA_PT_EEVEE_light", "VEACH_PT_passes", "VEACH_PT_settings")
+    if "VEACH" not in getattr(bpy.types, name).COMPAT_ENGINES]
 
 with open(os.path.join(out_dir, "blender.json"), "w") as f:
     json.dump(report, f)

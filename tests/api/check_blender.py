@@ -5,7 +5,9 @@ the VEACH engine through libveach, and cancels a second render. Checks:
   renderer, settings and seed: channel means within 2%, a margin for the export round trip only);
 - Blender's image is scene-linear (its mean matches the linear EXR of the CLI, not a display
   transform of it) and has the Depth pass, finite in front of the camera;
-- a cancel half a second in stops the render well before its million samples would finish.
+- a cancel half a second in stops the render well before its million samples would finish;
+- Blender's panels a user expects (output, format, colour management, camera lens, material and
+  World surface, light) list the engine, as do its own settings and passes panels.
 Fails when Blender is missing (scripts/install-deps.sh installs it).
 Usage: check_blender.py --library LIBVEACH --veach VEACH_CLI --addon plugins/blender
 """
@@ -98,6 +100,8 @@ def main():
         print(f"cancel: the render returned {report['cancel_seconds']:.2f} s after starting (cancel at 0.5 s)")
         if report["cancel_seconds"] > 20:
             sys.exit("FAIL: the cancelled render did not stop promptly")
+        if report["panels_missing"]:
+            sys.exit(f"FAIL: panels without the VEACH engine: {report['panels_missing']}")
         print("PASS: the add-on renders what `veach render` renders, with Depth, and cancels")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -6,7 +6,9 @@ and compared with the committed Cycles reference NAME.cycles.exr: channel means 
 16x16 block means within 5% (tests/tools/image_compare.py). For the World scenes this is what
 the add-on carries over beside the glTF: world_color's uniform colour x strength, world_hdri's
 equirectangular image, strength and Mapping rotation (a wrong rotation moves the warm patch that
-lights the scene, and the floor's shading and the background fail the blocks).
+lights the scene, and the floor's shading and the background fail the blocks). Then the first
+scene again with a render region (border 0.25-0.75 x 0.5-1.0, Crop on, set by --python-expr as
+a user would): exactly that part of the full frame.
 Usage: check_blender_scenes.py --library LIBVEACH --addon plugins/blender --repo ROOT SCENE..."""
 import argparse
 import os
@@ -63,6 +65,27 @@ def main():
                 print("   ", line.strip())
             if not ok:
                 failures.append(f"{name}: differs from Cycles (mean {result['mean']}, blocks {result['blocks']:.4f})")
+        # A render region (Blender's border with Crop) is that part of the full frame: the same
+        # pixels, since each pixel's samples depend only on the seed and the pixel.
+        name = args.scenes[0]
+        work = os.path.join(tmp, name)
+        border = ("import bpy; r = bpy.context.scene.render; r.use_border = True; r.use_crop_to_border = True; "
+                  "r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5, 1.0")
+        command = [blender, "-b", name + ".blend", "--addons", "veach", "-E", "VEACH", "--python-expr", border,
+                   "-o", "//border_#", "-F", "OPEN_EXR", "-f", "1"]
+        p = subprocess.run(command, cwd=work, env=dict(env, PWD=work), capture_output=True, text=True, timeout=300)
+        full, region = (os.path.join(work, f) for f in ("out_1.exr", "border_1.exr"))
+        if p.returncode != 0 or not os.path.exists(region) or not os.path.exists(full):
+            failures.append(f"border render: exit {p.returncode}\n{(p.stdout + p.stderr)[-3000:]}")
+        else:
+            whole, part = image_compare.load(full), image_compare.load(region)
+            h, w = whole.shape[:2]
+            expected = whole[0:h // 2, w // 4:3 * w // 4]  # rows from the top: border y 0.5..1 is the top half
+            same = part.shape == expected.shape and float(abs(part - expected).max()) == 0.0
+            print(f"border 0.25-0.75 x 0.5-1.0 with crop: {part.shape[1]}x{part.shape[0]}, "
+                  f"{'equal to' if same else 'DIFFERENT from'} the full frame's region")
+            if not same:
+                failures.append("the border render is not the full frame's region")
         if failures:
             sys.exit("FAIL:\n  " + "\n  ".join(failures))
         print("PASS: the add-on's renders of the saved .blend files match Cycles'")

@@ -6,6 +6,8 @@ A scene module has a docstring saying what the scene exercises and:
   RESOLUTION    (width, height) of its references, which is what the tests render at
   SPP           samples per pixel of its Cycles reference
   FRAMES        optional (first, last): the frames an animated scene is rendered at by default
+  BLEND_SAMPLES optional: the .blend is saved with the reference's Cycles settings at this many
+                samples (what the Blender add-on, following Cycles' settings, renders it with)
   VEACH_ARGS    optional list of `veach render` arguments needed to see what Cycles sees (the
                 World, which glTF does not carry: ["--env", "sky.hdr"], paths relative to the
                 scene's folder); written to NAME.cycles.json

@@ -8,6 +8,7 @@ import math
 import scene_kit as kit
 
 RESOLUTION = (96, 64)
+BLEND_SAMPLES = 64
 SPP = 1024
 FRAMES = (1, 12)
 

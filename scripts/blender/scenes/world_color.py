@@ -3,6 +3,7 @@ Blender add-on carries the World over as the environment (glTF has none)."""
 import scene_kit as kit
 
 RESOLUTION = (64, 48)
+BLEND_SAMPLES = 64
 SPP = 2048
 VEACH_ARGS = ["--env-color", "0.9,1.05,1.35"]
 

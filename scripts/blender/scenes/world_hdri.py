@@ -8,6 +8,7 @@ import scene_kit as kit
 from scenes import world_color
 
 RESOLUTION = (64, 48)
+BLEND_SAMPLES = 64
 SPP = 2048
 VEACH_ARGS = ["--env", "sky.hdr", "--env-strength", "0.8", "--env-rotate", "60"]
 SKY_W, SKY_H = 64, 32
