@@ -235,7 +235,8 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
             continue
         world = matrix_array(instance.matrix_world)
         if obj.type in GEOMETRY_TYPES:
-            key = (obj.name, obj.data.as_pointer() if obj.data else 0, instance.is_instance)
+            # The evaluated object and its data: an object and its instances share one mesh.
+            key = (obj.name, obj.data.as_pointer() if obj.data else 0)
             if key not in meshes:
                 meshes[key] = mesh_for_object(obj, writer, gltf, converter, export)
             if meshes[key] is not None:

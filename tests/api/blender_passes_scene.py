@@ -30,6 +30,17 @@ tree.links.new(noise.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Bas
 bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0.5))
 bpy.context.object.data.materials.append(ball_material)
 
+# The ball once more, as a collection instance (the export shares the ball's mesh between the two).
+ball = bpy.context.object
+ball.name = "ball"
+group = bpy.data.collections.new("ball group")
+group.objects.link(ball)
+instance = bpy.data.objects.new("ball instance", None)
+instance.instance_type = 'COLLECTION'
+instance.instance_collection = group
+instance.location = (1.5, 1.0, 0.0)
+scene.collection.objects.link(instance)
+
 sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
 sun.data.energy = 3.0
 sun.rotation_euler = (0.4, 0.2, 0.0)

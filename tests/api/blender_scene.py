@@ -71,5 +71,8 @@ report["panels_missing"] = [name for name in (
     "DATA_PT_EEVEE_light", "VEACH_PT_passes", "VEACH_PT_settings")
     if "VEACH" not in getattr(bpy.types, name).COMPAT_ENGINES]
 
+# The stats line before any pass is done, and after.
+report["progress_lines"] = [veach.engine.progress_line("pt", 0.0, 0.0), veach.engine.progress_line("pt", 0.5, 3.2)]
+
 with open(os.path.join(out_dir, "blender.json"), "w") as f:
     json.dump(report, f)

@@ -6,6 +6,7 @@ the VEACH engine through libveach, and cancels a second render. Checks:
 - Blender's image is scene-linear (its mean matches the linear EXR of the CLI, not a display
   transform of it) and has the Depth pass, finite in front of the camera;
 - a cancel half a second in stops the render well before its million samples would finish;
+- the stats line says "ETA unknown" before the first pass and the ETA after it;
 - Blender's panels a user expects (output, format, colour management, camera lens, material and
   World surface, light) list the engine, as do its own settings and passes panels.
 Fails when Blender is missing (scripts/install-deps.sh installs it).
@@ -100,6 +101,10 @@ def main():
         print(f"cancel: the render returned {report['cancel_seconds']:.2f} s after starting (cancel at 0.5 s)")
         if report["cancel_seconds"] > 20:
             sys.exit("FAIL: the cancelled render did not stop promptly")
+        before, during = report["progress_lines"]
+        print("stats lines:", report["progress_lines"])
+        if "ETA unknown" not in before or "50%" not in during or "ETA 3 s" not in during:
+            sys.exit(f"FAIL: the stats line should say 'ETA unknown' before the first pass: {report['progress_lines']}")
         if report["panels_missing"]:
             sys.exit(f"FAIL: panels without the VEACH engine: {report['panels_missing']}")
         print("PASS: the add-on renders what `veach render` renders, with Depth, and cancels")

@@ -5,7 +5,8 @@
   blender -b posed.blend --addons veach -E VEACH -o //out_#### -F OPEN_EXR -f 7
   blender -b posed.blend --addons veach -E VEACH -o //anim_#### -F OPEN_EXR -s 1 -e 12 -a
   blender -b posed.blend --addons veach -E VEACH -o //farm_#### -F OPEN_EXR --render-frame 1..3
-Each must exit 0 and write its frames. Every frame must match Cycles' render of that frame
+Each must exit 0 and write its frames; the stats line is printed only when it changes, with the
+ETA "unknown" while nothing is done. Every frame must match Cycles' render of that frame
 (tests/data/scenes/posed/posed.cycles.NNNN.exr, Lambertian materials): channel means within 2%
 and 16x16 block means within 5% (tests/tools/image_compare.py). Frames must differ from each
 other as Cycles' frames do: each frame fails to match its neighbours' references. So a render of the rest pose,
@@ -67,8 +68,18 @@ def main():
         run(common + ["-o", "//farm_####", "-F", "OPEN_EXR", "--render-frame", "1..3"], work, env,
             "--render-frame 1..3")
         renders.update({("--render-frame 1..3", f): "farm_%04d.exr" % f for f in (1, 2, 3)})
-        if "Veach |" not in log:
+        # The stats line: printed only when it changes, the ETA unknown until the first pass.
+        stats = [line.split("| Veach |", 1)[1].strip() for line in log.splitlines() if "| Veach |" in line]
+        print("stats lines of -f 7:", stats)
+        if not stats:
             sys.exit("FAIL: no Veach progress line in Blender's output: was the VEACH engine used?\n" + log[-2000:])
+        repeats = [a for a, b in zip(stats, stats[1:]) if a == b]
+        if repeats:
+            sys.exit(f"FAIL: the stats line repeats unchanged: {repeats}")
+        rendering = [line for line in stats if "%" in line]
+        early = [line for line in rendering if "| 0% |" in line and "ETA unknown" not in line]
+        if not rendering or early:
+            sys.exit(f"FAIL: no progress lines, or an ETA before any samples were done: {early or stats}")
 
         failures = []
         for (command, frame), name in sorted(renders.items(), key=lambda kv: (kv[0][1], kv[0][0])):

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """The add-on's passes and warnings, as a user gets them: a .blend saved by one Blender process
-(blender_passes_scene.py: an SSS floor, a ball with a Noise Texture, a sun, every pass on) and
+(blender_passes_scene.py: an SSS floor, a ball with a Noise Texture and a collection instance of
+it, a sun, every pass on) and
 rendered by another with
   blender -b passes.blend --addons veach -E VEACH -o //out_# -F OPEN_EXR_MULTILAYER -f 1
 Checks, in the multi-layer EXR Blender writes:
@@ -9,10 +10,12 @@ Checks, in the multi-layer EXR Blender writes:
 - Sample Count is the 16 samples the .blend's (Cycles) settings ask for, in every pixel;
 - on the floor the Normal passes are Blender's world up (0, 0, 1) (Z up, not glTF's Y up), the
   albedo is the floor's base colour and the depth is finite; the variance is finite and >= 0;
+- the ball and its collection instance are two nodes of one shared mesh in the export;
 - Blender's log has exactly one WARNING for the dropped subsurface scattering and one for the
   procedural texture.
 Usage: check_blender_passes.py --library LIBVEACH --addon plugins/blender"""
 import argparse
+import json
 import os
 import shutil
 import subprocess
@@ -51,9 +54,16 @@ def main():
         builder = os.path.join(os.path.dirname(os.path.abspath(__file__)), "blender_passes_scene.py")
         run([blender, "-b", "--factory-startup", "--addons", "veach", "--python-exit-code", "1", "--python", builder,
              "--", os.path.join(tmp, "passes.blend")], tmp, env)
+        export_dir = os.path.join(tmp, "export")
         log = run([blender, "-b", "passes.blend", "--addons", "veach", "-E", "VEACH", "-o", "//out_#", "-F",
-                   "OPEN_EXR_MULTILAYER", "-f", "1"], tmp, env)
+                   "OPEN_EXR_MULTILAYER", "-f", "1"], tmp, dict(env, VEACH_BLENDER_KEEP_EXPORT=export_dir))
         failures = []
+        with open(os.path.join(export_dir, "frame.gltf")) as f:
+            gltf = json.load(f)
+        balls = [n for n in gltf["nodes"] if n.get("name") == "ball"]
+        print("ball nodes in the export:", [(n["mesh"], n["matrix"][12:15]) for n in balls])
+        if len(balls) != 2 or balls[0]["mesh"] != balls[1]["mesh"] or balls[0]["matrix"] == balls[1]["matrix"]:
+            failures.append(f"the ball and its collection instance are not two placements of one mesh: {balls}")
         for kind in ("subsurface scattering", "procedural texture"):
             lines = [line for line in log.splitlines() if "Veach:" in line and kind in line]
             print(f"warnings about {kind}: {lines}")
