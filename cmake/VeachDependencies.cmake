@@ -12,6 +12,8 @@ find_package(TinyGLTF REQUIRED)
 # therefore a copy of libdraco.a without the members that define any tinygltf or stb symbol;
 # the codec needs none of them (a link error would say so). Link draco only through it.
 find_package(draco 1.5 REQUIRED CONFIG)
+# EXT_meshopt_compression (importers/gltf/gltf_meshopt.cpp): Debian's shared libmeshoptimizer.
+find_package(meshoptimizer 0.18 REQUIRED CONFIG)
 find_library(VEACH_DRACO_ARCHIVE libdraco.a REQUIRED)
 set(_veach_draco_copy ${CMAKE_BINARY_DIR}/draco/libveach_draco.a)
 if(NOT EXISTS ${_veach_draco_copy} OR ${VEACH_DRACO_ARCHIVE} IS_NEWER_THAN ${_veach_draco_copy})

@@ -10,6 +10,8 @@ packages=(
   build-essential cmake pkg-config git
   libembree-dev libtbb-dev libopenimageio-dev libopencolorio-dev
   libtinygltf-dev libstb-dev nlohmann-json3-dev libgtest-dev
+  libmeshoptimizer-dev  # EXT_meshopt_compression (the glTF importer)
+  gltfpack  # the importer tests compress the reference scenes with it (-c, -cc)
   libdraco-dev  # KHR_draco_mesh_compression (the glTF importer); tests encode streams with it too
   openimageio-tools opencolorio-tools
   python3 python3-numpy python3-openimageio

@@ -1,5 +1,7 @@
 #include "importers/gltf/gltf_draco.h"
 
+#include "importers/gltf/gltf_json_chunk.h"
+
 #include <climits>
 #include <cstring>
 #include <map>
@@ -111,17 +113,7 @@ std::string draco_type_name(draco::DataType type) {
 
 std::optional<std::vector<uint8_t>> patch_draco_index_accessors(std::span<const uint8_t> file, bool binary,
                                                                 std::set<int>& patched) {
-    const char* data = reinterpret_cast<const char*>(file.data());
-    size_t json_begin = 0, json_length = file.size();
-    if (binary) {  // header (magic, version, length), then the JSON chunk's length and type
-        if (file.size() < 20) return std::nullopt;
-        uint32_t length;
-        std::memcpy(&length, data + 12, 4);
-        if (length > file.size() - 20) return std::nullopt;
-        json_begin = 20;
-        json_length = length;
-    }
-    std::string_view text(data + json_begin, json_length);
+    std::string_view text = json_chunk(file, binary);
     if (text.find(k_extension) == std::string_view::npos) return std::nullopt;
     nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return std::nullopt;
@@ -157,21 +149,7 @@ std::optional<std::vector<uint8_t>> patch_draco_index_accessors(std::span<const 
     if (patched.empty()) return std::nullopt;
 
     // Invalid UTF-8 would have failed the parse; replace keeps dump from throwing regardless.
-    std::string json = doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    std::vector<uint8_t> out;
-    if (!binary) return std::vector<uint8_t>(json.begin(), json.end());
-    while (json.size() % 4) json += ' ';  // GLB chunks are 4-byte aligned, JSON padded with spaces
-    auto u32 = [&](uint32_t v) {
-        for (int i = 0; i < 4; ++i) out.push_back(uint8_t(v >> (8 * i)));
-    };
-    size_t rest = json_begin + json_length;  // the BIN chunk and anything after, unchanged
-    out.insert(out.end(), file.begin(), file.begin() + 8);
-    u32(uint32_t(20 + json.size() + (file.size() - rest)));
-    u32(uint32_t(json.size()));
-    out.insert(out.end(), file.begin() + 16, file.begin() + 20);
-    out.insert(out.end(), json.begin(), json.end());
-    out.insert(out.end(), file.begin() + rest, file.end());
-    return out;
+    return with_json_chunk(file, binary, doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
 struct DracoPrimitive::Impl {

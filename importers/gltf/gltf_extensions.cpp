@@ -14,6 +14,7 @@ constexpr std::string_view k_supported[] = {
     "KHR_materials_specular",          "KHR_materials_transmission", "KHR_materials_unlit",
     "KHR_materials_variants",          "KHR_materials_volume",       "KHR_mesh_quantization",
     "KHR_texture_transform",
+    "EXT_meshopt_compression",
 };
 
 }  // namespace

@@ -21,6 +21,8 @@
 #include "importers/gltf/gltf_accessors.h"
 #include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_extensions.h"
+#include "importers/gltf/gltf_json_chunk.h"
+#include "importers/gltf/gltf_meshopt.h"
 #include "importers/gltf/gltf_materials.h"
 #include "scene/mesh_tangents.h"
 
@@ -73,7 +75,20 @@ struct UriPolicy {
     fs::path base_dir;
     bool allow_external = false;
     std::string violation;  // the first refused URI, reported once tinygltf returns
+    // Synthetic files served as zero bytes (EXT_meshopt_compression fallback buffers: uri ->
+    // size), only those the importer itself added to the file.
+    std::map<std::string, uint64_t> zero_files;
 };
+
+// The path resolve_uri returns for a synthetic file: not a path any file system has.
+constexpr std::string_view k_zero_file_marker = "<veach-zero-file>/";
+
+const uint64_t* zero_file_size(const std::string& path, void* user) {
+    if (!path.starts_with(k_zero_file_marker)) return nullptr;
+    const auto& files = static_cast<UriPolicy*>(user)->zero_files;
+    auto it = files.find(path.substr(k_zero_file_marker.size()));
+    return it == files.end() ? nullptr : &it->second;
+}
 
 std::string resolve_uri(const std::string& joined, void* user) {
     auto* policy = static_cast<UriPolicy*>(user);
@@ -81,6 +96,7 @@ std::string resolve_uri(const std::string& joined, void* user) {
     std::string uri = joined.substr(k_uri_marker.size());
     // Data URIs of a type tinygltf doesn't decode, and remote URIs, are not files.
     if (uri.empty() || uri.starts_with("data:") || uri.find("://") != std::string::npos) return {};
+    if (policy->zero_files.count(uri)) return std::string(k_zero_file_marker) + uri;
     auto refuse = [&](const char* why) {
         if (policy->violation.empty())
             policy->violation = "URI '" + uri + "' " + why + "; refused (external files are not allowed)";
@@ -94,7 +110,8 @@ std::string resolve_uri(const std::string& joined, void* user) {
     return (policy->base_dir / normal).string();
 }
 
-bool file_exists(const std::string& path, void*) {
+bool file_exists(const std::string& path, void* user) {
+    if (zero_file_size(path, user)) return true;
     std::error_code ec;
     return !path.empty() && fs::is_regular_file(path, ec);
 }
@@ -119,7 +136,11 @@ bool read_bytes(const std::string& path, std::vector<unsigned char>& out, std::s
     return true;
 }
 
-bool read_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+bool read_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    if (const uint64_t* size = zero_file_size(path, user)) {
+        out->assign(size_t(*size), 0);
+        return true;
+    }
     std::string error;
     if (read_bytes(path, *out, error)) return true;
     if (err) *err += error;
@@ -145,15 +166,6 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
 bool is_glb(std::span<const uint8_t> bytes) { return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0; }
 
 // The JSON text of a .gltf, or the JSON chunk of a .glb (clamped; tinygltf checks the header).
-std::string_view json_text(std::span<const uint8_t> bytes, bool binary) {
-    const char* data = reinterpret_cast<const char*>(bytes.data());
-    if (!binary) return {data, bytes.size()};
-    if (bytes.size() < 20) return {};
-    uint32_t length;
-    std::memcpy(&length, data + 12, 4);
-    return {data + 20, std::min<size_t>(length, bytes.size() - 20)};
-}
-
 void check_json_nesting(std::string_view json) {
     int depth = 0;
     bool in_string = false, escaped = false;
@@ -258,11 +270,17 @@ private:
 
 void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
     if (bytes.size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
-    check_json_nesting(json_text(bytes, binary));
+    check_json_nesting(gltf::json_chunk(bytes, binary));
     std::optional<std::vector<uint8_t>> patched = gltf::patch_draco_index_accessors(bytes, binary, m_draco_indices);
     if (patched) {
         if (patched->size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
         bytes = *patched;
+    }
+    std::optional<std::vector<uint8_t>> with_fallbacks =
+        gltf::give_meshopt_fallbacks_uris(bytes, binary, m_uri_policy.zero_files);
+    if (with_fallbacks) {
+        if (with_fallbacks->size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
+        bytes = *with_fallbacks;
     }
 
     tinygltf::TinyGLTF loader;
@@ -281,6 +299,8 @@ void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
             err = "invalid JSON: " + err.substr(err.find("] ") + 2);
         throw GltfError(one_line(err.empty() ? "cannot parse the file" : err));
     }
+
+    gltf::decode_meshopt_buffer_views(m_model);
 
     uint64_t input_bytes = bytes.size();
     for (const tinygltf::Buffer& b : m_model.buffers) input_bytes += b.data.size();

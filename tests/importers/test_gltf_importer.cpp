@@ -667,7 +667,7 @@ TEST(GltfImporterErrors, NonFiniteTransform) {
 
 TEST(GltfImporterErrors, UnknownRequiredExtension) {
     std::string msg = expect_import_error(fs::path(data_dir()) / "unknown_required_extension.gltf");
-    EXPECT_NE(msg.find("requires unsupported extension EXT_meshopt_compression"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("requires unsupported extension VENDOR_unknown_extension"), std::string::npos) << msg;
 }
 
 // One list decides what a file may require: every extension the importer reads is accepted in
@@ -681,7 +681,7 @@ TEST(GltfImporter, EverySupportedExtensionMayBeRequired) {
         EXPECT_EQ(load(b).meshes.size(), 1u) << name;
     }
     EXPECT_TRUE(gltf::is_supported_extension("KHR_materials_transmission"));
-    EXPECT_FALSE(gltf::is_supported_extension("EXT_meshopt_compression"));
+    EXPECT_FALSE(gltf::is_supported_extension("KHR_texture_basisu"));
 }
 
 TEST(GltfImporter, ReadmeExtensionTableIsTheSupportedList) {
