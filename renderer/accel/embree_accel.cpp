@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -45,7 +46,21 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+thread_local uint64_t t_rejected_rays = 0;
+
+// Embree's Ray::valid() (checked by assertions in Debian's build): |origin| and |direction|
+// components within FLT_LARGE, t_max not NaN. NaN fails every comparison, so it is refused too.
+bool traceable(const Vec3& o, const Vec3& d, float t_max) {
+    const float m = k_max_ray_coordinate;
+    const bool ok = std::fabs(o.x) <= m && std::fabs(o.y) <= m && std::fabs(o.z) <= m && std::fabs(d.x) <= m &&
+                    std::fabs(d.y) <= m && std::fabs(d.z) <= m && !std::isnan(t_max);
+    if (!ok) ++t_rejected_rays;
+    return ok;
+}
+
 }  // namespace
+
+uint64_t Accel::rejected_rays_on_this_thread() { return t_rejected_rays; }
 
 struct Accel::Impl {
     const Scene& scene;
@@ -157,6 +172,7 @@ Accel::Accel(const Scene& scene) : m_impl(std::make_unique<Impl>(scene)) {
 Accel::~Accel() = default;
 
 bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* hit) const {
+    if (!traceable(origin, dir, t_max)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -185,6 +201,7 @@ bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* 
 }
 
 bool Accel::occluded(const Vec3& origin, const Vec3& dir, float t_max) const {
+    if (!traceable(origin, dir, t_max)) return true;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r;

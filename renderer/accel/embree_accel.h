@@ -31,6 +31,12 @@ public:
     // Any hit in (0, t_max).
     bool occluded(const Vec3& origin, const Vec3& dir, float t_max) const;
 
+    // Rays Embree cannot take (an origin or direction component past k_max_ray_coordinate or
+    // not finite, a NaN t_max) never reach it: it asserts on them and aborts the process.
+    // intersect() reports a miss, occluded() a blocked ray, and the calling thread's count
+    // grows; integrators drop the sample during which it grew, as they drop non-finite samples.
+    static uint64_t rejected_rays_on_this_thread();
+
     // World-space vertex positions of a triangle (baked or transformed on the fly).
     void triangle_world(uint32_t instance, uint32_t prim, Vec3* p0, Vec3* p1, Vec3* p2) const;
 

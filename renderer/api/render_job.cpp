@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -27,6 +28,26 @@ const Camera* select_camera(const Scene& scene, const std::string& spec) {
                                 "' in the scene (cameras: " + (known.empty() ? std::string("none") : known) + ")");
 }
 
+namespace {
+
+// Every hit point starts a ray, and Embree cannot take an origin past k_max_ray_coordinate: a
+// scene reaching beyond it (after the front end moved a far-off scene to the origin) is refused
+// before anything is built, rather than rendered with its far parts silently dropped.
+void check_scene_extent(const Scene& scene) {
+    const Bounds3 b = scene.bounds();
+    if (b.empty()) return;
+    const float reach = std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z), std::fabs(b.hi.x),
+                                  std::fabs(b.hi.y), std::fabs(b.hi.z)});
+    if (!(reach <= k_max_ray_coordinate)) {
+        char text[32];
+        std::snprintf(text, sizeof(text), "%.3g", double(reach));
+        throw std::invalid_argument(std::string("the scene's geometry reaches ") + text +
+                                    " from its centre; coordinates over 1e18 cannot be ray traced");
+    }
+}
+
+}  // namespace
+
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control) {
     using clock = std::chrono::steady_clock;
     const Camera* camera = select_camera(scene, options.camera);
@@ -43,6 +64,7 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
 
     result.camera_name = camera ? camera->name : "default";
     result.triangles = scene.triangle_count();
+    check_scene_extent(scene);
     auto t0 = clock::now();
     RenderScene rs(scene, camera, width, height);
     auto t1 = clock::now();

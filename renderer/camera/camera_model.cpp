@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace veach {
 
@@ -16,24 +18,56 @@ int CameraModel::default_height(const Camera* camera, int width) {
     return std::max(1, static_cast<int>(std::lround(width / aspect)));
 }
 
+namespace {
+
+// Unit vector along `v`, in double: the axes of a camera scaled by 1e-25 have a float length
+// whose square underflows, and a 1e25 scale overflows it, yet their directions are exact.
+bool unit_direction(const Vec3& v, Vec3* out) {
+    const double x = v.x, y = v.y, z = v.z;
+    const double l = std::sqrt(x * x + y * y + z * z);
+    if (!(l > 0.0) || !std::isfinite(l)) return false;
+    *out = Vec3(static_cast<float>(x / l), static_cast<float>(y / l), static_cast<float>(z / l));
+    return true;
+}
+
+float max_abs(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+std::invalid_argument bad_camera(const Camera& camera, const std::string& fault) {
+    return std::invalid_argument("camera '" + camera.name + "': " + fault);
+}
+
+}  // namespace
+
 CameraModel::CameraModel(const Camera* camera, const Bounds3& bounds, int width, int height)
     : m_width(width), m_height(height) {
     float aspect = static_cast<float>(width) / static_cast<float>(height);
     if (camera) {
         const Transform& m = camera->camera_to_world;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                if (!std::isfinite(m.m[r][c])) throw bad_camera(*camera, "its transform is not finite");
         m_origin = m.point(Vec3(0, 0, 0));
-        m_right = normalize(m.vector(Vec3(1, 0, 0)));
-        m_up = normalize(m.vector(Vec3(0, 1, 0)));
-        m_forward = normalize(m.vector(Vec3(0, 0, -1)));
+        if (!(max_abs(m_origin) <= k_max_ray_coordinate))
+            throw bad_camera(*camera, "its position is too far from the scene's centre (over 1e18)");
+        // Node scale does not change what a camera sees; a zero scale leaves no direction at all.
+        Vec3 up, forward;
+        if (!unit_direction(m.vector(Vec3(0, 1, 0)), &up) || !unit_direction(m.vector(Vec3(0, 0, -1)), &forward) ||
+            !unit_direction(m.vector(Vec3(1, 0, 0)), &m_right))
+            throw bad_camera(*camera, "its transform has a zero scale (no view direction)");
         // Re-orthogonalise: node matrices may carry shear or scale.
-        m_right = normalize(cross(m_forward, m_up));
+        if (!unit_direction(cross(forward, up), &m_right))
+            throw bad_camera(*camera, "its up direction is parallel to its view direction");
+        m_forward = forward;
         m_up = cross(m_right, m_forward);
         m_ortho = camera->orthographic;
         if (m_ortho) {
             // glTF's xmag/ymag are half extents; the image's aspect ratio decides the width.
             m_half_h = std::max(1e-12f, std::fabs(camera->ymag));
             m_half_w = m_half_h * aspect;
+            if (!(max_abs(m_origin) + std::max(m_half_w, m_half_h) <= k_max_ray_coordinate))
+                throw bad_camera(*camera, "its orthographic extent is too large (over 1e18)");
         } else {
+            if (!std::isfinite(camera->yfov)) throw bad_camera(*camera, "its field of view is not finite");
             float yfov = clamp(camera->yfov, 1e-4f, k_pi - 1e-3f);
             m_half_h = std::tan(0.5f * yfov);
             m_half_w = m_half_h * aspect;
@@ -46,6 +80,10 @@ CameraModel::CameraModel(const Camera* camera, const Bounds3& bounds, int width,
         float fit = std::min(yfov, 2.0f * std::atan(std::tan(0.5f * yfov) * aspect));
         float dist = r / std::sin(0.5f * fit);
         m_origin = c + Vec3(0, 0, dist);
+        if (!(max_abs(m_origin) <= k_max_ray_coordinate))
+            throw std::invalid_argument(
+                "the scene is too large for the default camera (it would stand over 1e18 from the origin); add a "
+                "camera");
         m_forward = Vec3(0, 0, -1);
         m_right = Vec3(1, 0, 0);
         m_up = Vec3(0, 1, 0);

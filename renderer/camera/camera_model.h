@@ -9,7 +9,10 @@ namespace veach {
 
 class CameraModel {
 public:
-    // `camera` may be null: a default camera then frames `scene_bounds` from +Z.
+    // `camera` may be null: a default camera then frames `scene_bounds` from +Z. Throws
+    // std::invalid_argument naming the camera when it gives no usable ray: a non-finite
+    // transform, a zero scale, up parallel to forward, or rays starting past
+    // k_max_ray_coordinate (a position or orthographic extent over 1e18).
     CameraModel(const Camera* camera, const Bounds3& scene_bounds, int width, int height);
 
     // Ray through film position (fx, fy) in pixels, (0, 0) the top-left corner of the image.

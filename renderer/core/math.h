@@ -15,6 +15,9 @@ inline constexpr float k_inv_pi = 1.0f / k_pi;
 inline constexpr float k_inv_two_pi = 0.5f / k_pi;
 inline constexpr float k_inv_four_pi = 0.25f / k_pi;
 inline constexpr float k_infinity = std::numeric_limits<float>::infinity();
+// The largest ray origin coordinate the renderer traces: Embree asserts every origin and
+// direction component lies within 1.844e18 (its FLT_LARGE), and a ray past it would abort.
+inline constexpr float k_max_ray_coordinate = 1e18f;
 
 struct Vec2 {
     float x = 0, y = 0;

@@ -4,8 +4,12 @@ namespace veach {
 
 Bounds3 Scene::bounds() const {
     Bounds3 b;
+    // The triangles' corners only: repair leaves unreferenced and non-finite vertices in place.
     for (const Instance& inst : instances) {
-        for (const Vec3& p : meshes[inst.mesh].positions) b.extend(inst.object_to_world.point(p));
+        const Mesh& mesh = meshes[inst.mesh];
+        for (uint32_t i : mesh.indices)
+            if (i < mesh.positions.size() && is_finite(mesh.positions[i]))
+                b.extend(inst.object_to_world.point(mesh.positions[i]));
     }
     return b;
 }

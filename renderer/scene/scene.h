@@ -203,7 +203,7 @@ struct Scene {
     SceneFeatures features;
     RepairCounts repaired;
 
-    // World-space bounds of all instanced geometry.
+    // World-space bounds of all instanced triangles (their finite corners).
     Bounds3 bounds() const;
     size_t triangle_count() const;  // instanced triangles, counted per instance
     const Material& material_of(const Mesh& mesh) const;

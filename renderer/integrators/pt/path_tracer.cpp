@@ -121,8 +121,9 @@ void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t s
                 auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
                 Vec3 o, d;
                 camera.generate_ray(fx, fy, &o, &d);
+                const uint64_t rejected = Accel::rejected_rays_on_this_thread();
                 Rgb l = trace(rs, o, d, rng, stats);
-                if (!l.is_finite()) {
+                if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {
                     ++stats.nonfinite;  // dropped, never written
                     continue;
                 }

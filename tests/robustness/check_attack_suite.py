@@ -1,0 +1,128 @@
+#!/usr/bin/python3
+"""Runs the attack suite written by make_attack_cases.py through the `veach` command and checks
+each case's contract (see make_attack_cases.py): exit code, one stderr line naming the fault,
+no image for a refused case, a finite non-negative image for a rendered one, never a signal or a
+hang, and peak memory under the case's limit (the address space is capped with RLIMIT_AS, so an
+allocation a budget should have refused fails instead of succeeding; the peak resident size is
+reported per case).
+
+Usage: check_attack_suite.py --veach VEACH --cases DIR [--generate] [--only SUBSTRING] [--jobs N]
+(--generate first writes the cases into DIR with make_attack_cases.py.)
+Exit 0 when every case keeps its contract, 1 otherwise.
+"""
+import argparse
+import concurrent.futures
+import json
+import os
+import resource
+import signal
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import OpenImageIO as oiio
+
+SANITIZER_MARKS = ("AddressSanitizer", "runtime error:", "LeakSanitizer", "UndefinedBehaviorSanitizer")
+
+
+def run_limited(cmd, memory_mb, timeout, stdin=None):
+    """Runs `cmd` with its address space capped; returns (returncode, stderr, peak_rss_mb, timed_out)."""
+
+    def limit():
+        if memory_mb:
+            resource.setrlimit(resource.RLIMIT_AS, (memory_mb << 20, memory_mb << 20))
+
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, stdin=stdin or subprocess.DEVNULL,
+                         preexec_fn=limit)
+    timed_out = []
+    timer = threading.Timer(timeout, lambda: (timed_out.append(1), p.kill()))
+    timer.start()
+    err = p.stderr.read().decode(errors="replace")
+    _, status, usage = os.wait4(p.pid, 0)
+    timer.cancel()
+    p.returncode = os.waitstatus_to_exitcode(status)
+    return p.returncode, err, usage.ru_maxrss / 1024.0, bool(timed_out)
+
+
+def check_case(veach, c, timeout):
+    """None when case `c` keeps its contract, else a one-line description of the fault."""
+    image = os.path.join(c["folder"], "out.exr")
+    if os.path.exists(image):
+        os.remove(image)
+    cmd = [veach, "render", c["input"], "-o", image, "--width", "32", "--height", "24", "--spp", "2",
+           "--threads", "1", "-q"] + c["args"]
+    rc, err, peak, timed_out = run_limited(cmd, c["memory_mb"], timeout)
+    lines = [l for l in err.strip().splitlines() if l]
+    where = f"(peak {peak:.0f} MB) stderr: {err.strip()[-600:]!r}"
+    if timed_out:
+        return f"hang: still running after {timeout}s {where}"
+    if rc < 0:
+        return f"killed by {signal.Signals(-rc).name} {where}"
+    if any(m in err for m in SANITIZER_MARKS):
+        return f"sanitizer report {where}"
+    if c["expect"] == "refused":
+        want = c["exit"] if c["exit"] is not None else 2
+        if rc != want:
+            return f"exit {rc}, expected {want} {where}"
+        if len(lines) != 1:
+            return f"{len(lines)} stderr lines, expected 1 {where}"
+        if c["message"] and c["message"].lower() not in lines[0].lower():
+            return f"message lacks {c['message']!r} {where}"
+        if os.path.exists(image):
+            return f"refused but an image was written {where}"
+        return None
+    if rc != 0:
+        return f"exit {rc}, expected 0 {where}"
+    if c["warning"] and c["warning"].lower() not in err.lower():
+        return f"no warning containing {c['warning']!r} {where}"
+    if not c["nonfinite_ok"] and "non-finite samples dropped" in err:
+        return f"non-finite samples {where}"
+    buf = oiio.ImageBuf(image)
+    pixels = buf.get_pixels(oiio.FLOAT)
+    if pixels is None or pixels.size == 0:
+        return f"unreadable image {where}"
+    if not np.all(np.isfinite(pixels)):
+        return f"non-finite pixels {where}"
+    if np.min(pixels) < 0:
+        return f"negative pixels (min {np.min(pixels)}) {where}"
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--veach", required=True)
+    ap.add_argument("--cases", required=True)
+    ap.add_argument("--generate", action="store_true")
+    # AddressSanitizer reserves terabytes of address space: its build runs the cases unlimited.
+    ap.add_argument("--no-memory-limit", action="store_true")
+    ap.add_argument("--only", default="")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--timeout", type=float, default=60)
+    args = ap.parse_args()
+    if args.generate:
+        generator = os.path.join(os.path.dirname(os.path.abspath(__file__)), "make_attack_cases.py")
+        subprocess.run([sys.executable, generator, args.cases], check=True)
+    with open(os.path.join(args.cases, "manifest.json")) as f:
+        cases = [c for c in json.load(f) if args.only in c["name"]]
+    if args.no_memory_limit:
+        for c in cases:
+            c["memory_mb"] = 0
+    if not cases:
+        print("no cases")
+        return 1
+    failures = 0
+    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+        results = list(pool.map(lambda c: (c, check_case(args.veach, c, args.timeout)), cases))
+    for c, fault in results:
+        if fault:
+            failures += 1
+            print(f"FAIL {c['name']}: {fault}")
+        else:
+            print(f"ok   {c['name']}")
+    print(f"{len(cases) - failures} of {len(cases)} cases keep their contract")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,226 @@
+#!/usr/bin/python3
+"""Writes the hostile inputs of the attack suite into a folder (the build folder: nothing large is
+ever committed) and a manifest.json naming, for each case, the arguments to `veach render` and
+the contract it must keep:
+
+  expect "refused": exit 2 (or `exit` when given), exactly one stderr line, containing `message`
+                    when given, no image written;
+  expect "rendered": exit 0, an image whose pixels are finite and >= 0, no non-finite sample
+                    dropped unless `nonfinite_ok`; `warning`, when given, appears on stderr.
+
+Every case also runs under an address-space limit (`memory_mb`, default 2048): a budget must
+refuse before the allocation it covers, never after. Cases are named after what they check.
+
+Usage: make_attack_cases.py OUTDIR
+"""
+import base64
+import json
+import os
+import pathlib
+import stat
+import struct
+import sys
+import zlib
+
+CASES = []
+
+
+def case(name, files, expect, args=(), message=None, warning=None, exit_code=None, memory_mb=2048,
+         nonfinite_ok=False, input_name=None):
+    CASES.append({"name": name, "files": files, "expect": expect, "args": list(args), "message": message,
+                  "warning": warning, "exit": exit_code, "memory_mb": memory_mb, "nonfinite_ok": nonfinite_ok,
+                  "input": input_name})
+
+
+def f32(values):
+    return struct.pack(f"<{len(values)}f", *values)
+
+
+def data_uri(raw):
+    return "data:application/octet-stream;base64," + base64.b64encode(raw).decode()
+
+
+def triangle_gltf(scale=1.0, offset=(0.0, 0.0, -2.0), camera=None, camera_node=None, material=None, extra=None,
+                  lights=None, buffer_uri=None):
+    """One triangle (and optionally a camera node, a material, punctual lights) as a glTF dict."""
+    s = scale
+    positions = f32([-s, -s, 0, s, -s, 0, 0, s, 0])
+    indices = struct.pack("<3H", 0, 1, 2) + b"\0\0"
+    raw = positions + indices
+    g = {
+        "asset": {"version": "2.0", "generator": "veach attack suite"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": "tri", "mesh": 0, "translation": list(offset)}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [-s, -s, 0],
+             "max": [s, s, 0]},
+            {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+        ],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+        "buffers": [{"byteLength": len(raw), "uri": buffer_uri or data_uri(raw)}],
+    }
+    # Emissive by default: a scene without light would add a warning line to every case.
+    g["materials"] = [material if material is not None else {"emissiveFactor": [1, 1, 1]}]
+    g["meshes"][0]["primitives"][0]["material"] = 0
+    if camera is not None:
+        g["cameras"] = [camera]
+        node = {"name": "cam", "camera": 0}
+        node.update(camera_node or {})
+        g["nodes"].append(node)
+        g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+    if lights is not None:
+        g.setdefault("extensionsUsed", []).append("KHR_lights_punctual")
+        g["extensions"] = {"KHR_lights_punctual": {"lights": [l for l, _ in lights]}}
+        for i, (_, node) in enumerate(lights):
+            n = {"name": f"light{i}", "extensions": {"KHR_lights_punctual": {"light": i}}}
+            n.update(node)
+            g["nodes"].append(n)
+            g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+    if extra:
+        extra(g)
+    return g
+
+
+PERSPECTIVE = {"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}
+BAD_CAMERA = "camera"  # every refused camera names itself in the message
+
+
+def camera_cases():
+    for name, node in [
+        ("camera_scale_zero_is_refused", {"scale": [0, 0, 0]}),
+        ("camera_scale_flat_is_refused", {"scale": [1, 0, 1]}),
+        ("camera_translation_1e38_is_refused", {"translation": [1e38, 0, 0]}),
+        # up parallel to forward: columns 1 and 2 of the matrix equal
+        ("camera_up_parallel_to_forward_is_refused",
+         {"matrix": [1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1]}),
+    ]:
+        case(name, {"scene.gltf": triangle_gltf(camera=PERSPECTIVE, camera_node=node)}, "refused", message=BAD_CAMERA)
+    # A uniform scale does not change what a camera sees: 1e-25 and 1e25 render like 1.
+    for name, k in [("camera_scale_tiny_uniform_renders", 1e-25), ("camera_scale_huge_uniform_renders", 1e25)]:
+        case(name, {"scene.gltf": triangle_gltf(camera=PERSPECTIVE, camera_node={"scale": [k, k, k]})}, "rendered")
+    for name, mag in [("camera_ortho_mag_1e39_is_refused", 1e39), ("camera_ortho_mag_3e38_is_refused", 3e38)]:
+        cam = {"type": "orthographic", "orthographic": {"xmag": mag, "ymag": mag, "znear": 0.01, "zfar": 100}}
+        case(name, {"scene.gltf": triangle_gltf(camera=cam)}, "refused", message=BAD_CAMERA)
+    # No camera and one triangle 1e19 away: the default camera would stand 1e19 from the origin;
+    # the scene is moved to the origin first (rebasing), so it renders.
+    case("far_triangle_without_camera_renders", {"scene.gltf": triangle_gltf(offset=(1e19, 0, 0))}, "rendered")
+    # Geometry that still reaches past 1e18 once centred cannot be ray traced: refused.
+    case("geometry_reaching_1e30_is_refused", {"scene.gltf": triangle_gltf(scale=1e30)}, "refused",
+         message="1e18")
+    # A light far past the limit: what its rays would need is dropped and counted, never an abort.
+    far_light = [({"type": "point", "intensity": 1e30}, {"translation": [1e30, 0, 0]})]
+    for integrator in ("pt", "bdpt", "lt"):
+        case(f"point_light_at_1e30_renders_{integrator}", {"scene.gltf": triangle_gltf(lights=far_light)}, "rendered",
+             args=["--integrator", integrator], nonfinite_ok=True)
+    case("far_tiny_triangle_without_camera_renders",
+         {"scene.gltf": triangle_gltf(scale=1e-3, offset=(3e37, 3e37, 3e37))}, "rendered")
+
+
+def triangle_bin():
+    return f32([-1, -1, 0, 1, -1, 0, 0, 1, 0]) + struct.pack("<3H", 0, 1, 2) + b"\0\0"
+
+
+def symlink_to(target):
+    def make(p):
+        if p.is_symlink() or p.exists():
+            p.unlink()
+        os.symlink(target, p)
+    return make
+
+
+def fifo(p):
+    if p.exists():
+        p.unlink()
+    os.mkfifo(p)
+
+
+def directory(p):
+    p.mkdir(exist_ok=True)
+
+
+def confinement_cases():
+    """URIs and inputs that must not be read: outside the folder through a symlink, FIFOs,
+    devices, directories. Each is refused with exit 2 before anything blocks or spins."""
+    external = triangle_gltf(buffer_uri="tri.bin")
+    # The real file lives beside the case folder; the link inside the folder points at it.
+    case("buffer_symlink_outside_folder_is_refused",
+         {"../outside_buffer/tri.bin": triangle_bin(), "scene.gltf": external,
+          "tri.bin": symlink_to("../outside_buffer/tri.bin")}, "refused", message="outside")
+    case("buffer_symlink_outside_folder_allowed_renders",
+         {"../outside_buffer2/tri.bin": triangle_bin(), "scene.gltf": external,
+          "tri.bin": symlink_to("../outside_buffer2/tri.bin")}, "rendered", args=["--allow-external-files"])
+    case("buffer_symlink_inside_folder_renders",
+         {"data/real.bin": triangle_bin(), "scene.gltf": external, "tri.bin": symlink_to("data/real.bin")}, "rendered")
+    case("buffer_fifo_is_refused", {"scene.gltf": external, "tri.bin": fifo}, "refused", message="regular file")
+    case("buffer_directory_is_refused", {"scene.gltf": external, "tri.bin": directory}, "refused")
+    case("buffer_dev_zero_is_refused", {"scene.gltf": triangle_gltf(buffer_uri="/dev/zero")}, "refused",
+         args=["--allow-external-files"], message="regular file")
+    case("input_fifo_is_refused", {"scene.gltf": fifo}, "refused", message="regular file")
+    case("input_directory_is_refused", {"scene.gltf": directory}, "refused", message="directory")
+    plain = triangle_gltf()
+    case("env_dev_zero_is_refused", {"scene.gltf": plain}, "refused", args=["--env", "/dev/zero"],
+         message="regular file")
+    case("env_fifo_is_refused", {"scene.gltf": plain, "env.hdr": fifo}, "refused", args=["--env", "{folder}/env.hdr"],
+         message="regular file")
+    case("env_directory_is_refused", {"scene.gltf": plain, "env.hdr": directory}, "refused",
+         args=["--env", "{folder}/env.hdr"])
+    # A texture behind a symlink leading out of the folder (the PNG itself is valid).
+    png = png_bytes(4, 4)
+    textured = triangle_gltf(material={"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                                       "emissiveFactor": [1, 1, 1]},
+                             extra=lambda g: g.update({"images": [{"uri": "tex.png"}], "textures": [{"source": 0}]}))
+    case("texture_symlink_outside_folder_is_refused",
+         {"../outside_texture/tex.png": png, "scene.gltf": textured, "tex.png": symlink_to("../outside_texture/tex.png")},
+         "refused", message="outside")
+    case("texture_fifo_is_refused", {"scene.gltf": textured, "tex.png": fifo}, "refused", message="regular file")
+
+
+def png_bytes(width, height, declared=None, pixel=b"\x80\x80\x80"):
+    """An RGB PNG of width x height (`declared` overrides the header's size: a small image claiming
+    to be huge)."""
+    w, h = declared or (width, height)
+    raw = b"".join(b"\0" + pixel * width for _ in range(height))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def write_case(folder, files):
+    folder.mkdir(parents=True, exist_ok=True)
+    for rel, content in files.items():
+        p = folder / rel
+        p.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, dict):
+            p.write_text(json.dumps(content))
+        elif isinstance(content, bytes):
+            p.write_bytes(content)
+        elif isinstance(content, str):
+            p.write_text(content)
+        elif callable(content):
+            content(p)
+
+
+def main():
+    out = pathlib.Path(sys.argv[1])
+    out.mkdir(parents=True, exist_ok=True)
+    camera_cases()
+    manifest = []
+    for c in CASES:
+        folder = out / c["name"]
+        write_case(folder, c.pop("files"))
+        c["folder"] = str(folder)
+        c["input"] = str(folder / (c["input"] or "scene.gltf"))
+        c["args"] = [a.replace("{folder}", str(folder)) for a in c["args"]]
+        manifest.append(c)
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1))
+    print(f"{len(manifest)} cases in {out}")
+
+
+if __name__ == "__main__":
+    main()
