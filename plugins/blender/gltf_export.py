@@ -189,6 +189,8 @@ def camera_entry(camera, width, height, export):
 def light_entry(light, export):
     """KHR_lights_punctual's light for a Blender point, spot or sun; None for the others."""
     color = [float(c) for c in light.color]
+    if not light.use_shadow:
+        export.warn("light shadow", "lights without shadows are not carried over (they cast shadows)")
     if light.type == "SUN":
         if light.angle > 0:
             export.warn("sun angle", "sun angle is not carried over (hard shadows)")
@@ -235,6 +237,12 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
             continue
         world = matrix_array(instance.matrix_world)
         if obj.type in GEOMETRY_TYPES:
+            if getattr(obj, "is_holdout", False) or getattr(obj, "is_shadow_catcher", False):
+                export.warn("holdout", "holdout and shadow catcher objects are not carried over (rendered as usual)")
+            if not all(getattr(obj, a, True) for a in ("visible_camera", "visible_diffuse", "visible_glossy",
+                                                        "visible_transmission", "visible_shadow")):
+                export.warn("ray visibility", "object ray visibility is not carried over (visible to every ray)")
+        if obj.type in GEOMETRY_TYPES:
             # The evaluated object and its data: an object and its instances share one mesh.
             key = (obj.name, obj.data.as_pointer() if obj.data else 0)
             if key not in meshes:
@@ -264,6 +272,8 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
             export.warn("hair", "hair particles are not carried over (dropped)")
     if camera_object is None:
         export.warn("camera", "the scene has no camera")
+    if scene.render.use_motion_blur:
+        export.warn("motion blur", "motion blur is not carried over (each frame renders at its instant)")
     if lights:
         gltf["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
         gltf["extensionsUsed"].append("KHR_lights_punctual")
