@@ -9,12 +9,15 @@ namespace {
 // Add a name here in the same change that makes the importer read the extension, and mark it
 // "yes" in README's table of glTF extensions.
 constexpr std::string_view k_supported[] = {
-    "KHR_draco_mesh_compression",      "KHR_lights_punctual",        "KHR_materials_clearcoat",
-    "KHR_materials_emissive_strength", "KHR_materials_ior",          "KHR_materials_sheen",
-    "KHR_materials_specular",          "KHR_materials_transmission", "KHR_materials_unlit",
-    "KHR_materials_variants",          "KHR_materials_volume",       "KHR_mesh_quantization",
-    "KHR_texture_transform",
-    "EXT_meshopt_compression",
+    "KHR_draco_mesh_compression", "KHR_lights_punctual",
+    "KHR_materials_clearcoat",    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",          "KHR_materials_sheen",
+    "KHR_materials_specular",     "KHR_materials_transmission",
+    "KHR_materials_unlit",        "KHR_materials_variants",
+    "KHR_materials_volume",       "KHR_mesh_quantization",
+    "KHR_texture_basisu",  // its fallback `source` renders; a BasisU-only texture is refused
+    "KHR_texture_transform",      "EXT_meshopt_compression",
+    "EXT_texture_webp",
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "importers/gltf/gltf_materials.h"
 
+#include <algorithm>
 #include <array>
 #include <climits>
 #include <cmath>
@@ -250,11 +251,12 @@ int32_t MaterialConverter::texture(int index, ColorSpace space, const std::strin
     if (auto it = m_textures.find(key); it != m_textures.end()) return it->second;
 
     int32_t slot = -1;
-    if (m_model.textures[index].source < 0) {
+    int source = image_source(index, what);
+    if (source < 0) {
         // Typically the image is only given through an image-format extension we don't support.
         m_context.warn(what + ": texture " + std::to_string(index) + " has no image we can load; ignored");
     } else {
-        Texture decoded = decode(index, space, what);
+        Texture decoded = decode(index, source, space, what);
         slot = static_cast<int32_t>(m_context.scene.textures.size());
         m_context.scene.textures.push_back(std::move(decoded));
     }
@@ -262,13 +264,29 @@ int32_t MaterialConverter::texture(int index, ColorSpace space, const std::strin
     return slot;
 }
 
-Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std::string& what) {
+int MaterialConverter::image_source(int texture_index, const std::string& what) const {
     const tinygltf::Texture& src = m_model.textures[texture_index];
-    if (static_cast<size_t>(src.source) >= m_model.images.size())
+    if (const tinygltf::Value* webp = json_extension(src.extensions, "EXT_texture_webp")) {
+        int image = json_integer(webp, "source", -1);
+        if (image >= 0) return image;
+    }
+    if (src.source < 0 && json_extension(src.extensions, "KHR_texture_basisu")) {
+        const auto& required = m_model.extensionsRequired;
+        if (std::find(required.begin(), required.end(), "KHR_texture_basisu") != required.end())
+            throw GltfError(what + ": texture " + std::to_string(texture_index) +
+                            " is KHR_texture_basisu (KTX2) only: Veach cannot transcode BasisU (Debian has no "
+                            "transcoder) and the texture has no fallback source");
+    }
+    return src.source;
+}
+
+Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace space, const std::string& what) {
+    const tinygltf::Texture& src = m_model.textures[texture_index];
+    if (static_cast<size_t>(image_index) >= m_model.images.size())
         throw GltfError(what + ": texture " + std::to_string(texture_index) + " uses image " +
-                        std::to_string(src.source) + ", which does not exist");
-    const tinygltf::Image& image = m_model.images[src.source];
-    std::string where = what + ": image " + std::to_string(src.source) +
+                        std::to_string(image_index) + ", which does not exist");
+    const tinygltf::Image& image = m_model.images[image_index];
+    std::string where = what + ": image " + std::to_string(image_index) +
                         (image.uri.empty() || image.uri.starts_with("data:") ? "" : " '" + image.uri + "'");
 
     // Checked before decoding so a bad reference doesn't cost a decode.
@@ -300,6 +318,8 @@ Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std
                 name += ".exr";
             else if (image.mimeType == "image/tiff")
                 name += ".tif";
+            else if (image.mimeType == "image/webp")
+                name += ".webp";
             img = read_image_memory(bytes.data(), bytes.size(), name);
         } catch (const ImageReadError&) {
             throw GltfError(where + ": cannot decode (" + stb_error + ")");
@@ -310,7 +330,7 @@ Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std
                             " is out of range");
         m_context.charge(count * 4 * sizeof(float), where, Budget::Textures);
         Texture tex;
-        tex.name = !image.name.empty() ? image.name : "image " + std::to_string(src.source);
+        tex.name = !image.name.empty() ? image.name : "image " + std::to_string(image_index);
         tex.width = img.width;
         tex.height = img.height;
         tex.texels = std::move(img.rgba);
@@ -341,7 +361,7 @@ Texture MaterialConverter::decode(int texture_index, ColorSpace space, const std
     Texture tex;
     tex.name = !image.name.empty()                                     ? image.name
                : !image.uri.empty() && !image.uri.starts_with("data:") ? image.uri
-                                                                       : "image " + std::to_string(src.source);
+                                                                       : "image " + std::to_string(image_index);
     tex.width = width;
     tex.height = height;
     // stb_image returns rows top first, which is Texture's layout; glTF's v = 0 is the top row.

@@ -40,7 +40,12 @@ private:
     Material convert(int index);
     TextureRef texture_ref(const TextureInfoFields& info, ColorSpace space, const std::string& what);
     int32_t texture(int index, ColorSpace space, const std::string& what);
-    Texture decode(int texture_index, ColorSpace space, const std::string& what);
+    // The image a texture shows: EXT_texture_webp's when it has one (OpenImageIO decodes WebP),
+    // else `source`, which is KHR_texture_basisu's fallback (Debian has no BasisU transcoder).
+    // -1 when there is none; a BasisU-only texture in a file that requires the extension is bad
+    // input.
+    int image_source(int texture_index, const std::string& what) const;
+    Texture decode(int texture_index, int image_index, ColorSpace space, const std::string& what);
 
     const tinygltf::Model& m_model;
     ImportContext& m_context;
