@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -16,14 +17,18 @@
 #include <span>
 #include <string_view>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <tiny_gltf.h>
 
 #include "importers/gltf/gltf_accessors.h"
 #include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_extensions.h"
 #include "importers/gltf/gltf_json_chunk.h"
-#include "importers/gltf/gltf_meshopt.h"
 #include "importers/gltf/gltf_materials.h"
+#include "importers/gltf/gltf_meshopt.h"
 #include "scene/mesh_tangents.h"
 
 namespace veach {
@@ -37,7 +42,8 @@ constexpr size_t k_max_node_visits = size_t(1) << 20;
 // tinygltf converts extension JSON to its Value type recursively; refuse nesting deep enough
 // to exhaust the stack before it gets there.
 constexpr int k_max_json_nesting = 512;
-constexpr uint64_t k_max_file_bytes = UINT_MAX;  // tinygltf takes 32-bit lengths
+constexpr uint64_t k_max_file_bytes = UINT_MAX;     // tinygltf takes 32-bit lengths
+constexpr size_t k_max_elements = size_t(1) << 20;  // per top-level array (nodes, accessors, ...)
 
 // Messages are one short line: tinygltf's errors come as several lines and may quote whole
 // base64 data URIs or the raw bytes near a JSON syntax error.
@@ -90,6 +96,23 @@ const uint64_t* zero_file_size(const std::string& path, void* user) {
     return it == files.end() ? nullptr : &it->second;
 }
 
+// The folder a path really lies in: symbolic links resolved, so a link inside the scene's folder
+// that points outside it is outside. A path that does not exist resolves as far as it exists.
+fs::path real_path(const fs::path& p) {
+    std::error_code ec;
+    fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec);
+    return ec ? p.lexically_normal() : r;
+}
+
+bool is_inside(const fs::path& path, const fs::path& folder) {
+    auto f = folder.begin(), p = path.begin();
+    for (; f != folder.end(); ++f, ++p) {
+        if (f->empty()) continue;  // a trailing separator
+        if (p == path.end() || *p != *f) return false;
+    }
+    return true;
+}
+
 std::string resolve_uri(const std::string& joined, void* user) {
     auto* policy = static_cast<UriPolicy*>(user);
     if (!joined.starts_with(k_uri_marker)) return {};
@@ -107,31 +130,55 @@ std::string resolve_uri(const std::string& joined, void* user) {
     fs::path normal = path.lexically_normal();
     if (!normal.empty() && *normal.begin() == ".." && !policy->allow_external)
         return refuse("leads outside the scene's folder");
-    return (policy->base_dir / normal).string();
+    fs::path resolved = policy->base_dir / normal;
+    if (!policy->allow_external && !is_inside(real_path(resolved), real_path(policy->base_dir)))
+        return refuse("leads outside the scene's folder through a symbolic link");
+    return resolved.string();
 }
 
 bool file_exists(const std::string& path, void* user) {
     if (zero_file_size(path, user)) return true;
+    // Anything that exists: read_bytes refuses what is not a regular file, with its reason.
     std::error_code ec;
-    return !path.empty() && fs::is_regular_file(path, ec);
+    return !path.empty() && fs::exists(path, ec);
 }
 
+// Reads a whole regular file. FIFOs, devices, sockets and directories are refused without
+// reading from them (a FIFO would block, /dev/zero never ends): the file is opened
+// non-blocking and checked with fstat on the open descriptor, so what is checked is what is read.
 bool read_bytes(const std::string& path, std::vector<unsigned char>& out, std::string& error) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) {
+    int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
         error = std::strerror(errno);
         return false;
     }
-    std::streamoff size = in.tellg();
-    if (size < 0 || static_cast<uint64_t>(size) > k_max_file_bytes) {
+    struct FdCloser {
+        int fd;
+        ~FdCloser() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        error = std::strerror(errno);
+        return false;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        error = S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file";
+        return false;
+    }
+    if (static_cast<uint64_t>(st.st_size) > k_max_file_bytes) {
         error = "file too large";
         return false;
     }
-    out.resize(static_cast<size_t>(size));
-    in.seekg(0);
-    if (size > 0 && !in.read(reinterpret_cast<char*>(out.data()), size)) {
-        error = "read error";
-        return false;
+    out.resize(static_cast<size_t>(st.st_size));
+    size_t done = 0;
+    while (done < out.size()) {
+        ssize_t n = ::read(fd, out.data() + done, out.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            error = n < 0 ? std::strerror(errno) : "the file shrank while it was read";
+            return false;
+        }
+        done += static_cast<size_t>(n);
     }
     return true;
 }
@@ -166,26 +213,116 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
 bool is_glb(std::span<const uint8_t> bytes) { return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0; }
 
 // The JSON text of a .gltf, or the JSON chunk of a .glb (clamped; tinygltf checks the header).
-void check_json_nesting(std::string_view json) {
-    int depth = 0;
-    bool in_string = false, escaped = false;
+// What the JSON text says before tinygltf parses it. tinygltf materialises every element of
+// every top-level array as a C++ object of a few hundred bytes (10 million empty nodes cost
+// gigabytes before any check of ours could run) and converts extension JSON recursively (deep
+// nesting exhausts the stack), so both are measured on the text first. glTF 1.0 is recognised
+// here too: its top-level collections are dictionaries where 2.0 has arrays, and tinygltf
+// would read it as an empty 2.0 scene.
+struct JsonOutline {
+    std::string version;                          // asset.version, when given
+    bool dictionaries = false;                    // a glTF 1.0 style top-level dictionary
+    std::map<std::string, size_t> array_lengths;  // elements of each top-level array
+};
+
+JsonOutline outline_json(std::string_view json) {
+    static const std::set<std::string, std::less<>> k_collections = {
+        "accessors", "bufferViews", "buffers", "cameras", "images",   "materials", "meshes",
+        "nodes",     "samplers",    "scenes",  "skins",   "textures", "animations"};
+    JsonOutline out;
+    std::vector<char> open;           // '{' or '[' for each level
+    std::vector<uint8_t> expect_key;  // per object level: the next string is a key
+    bool in_string = false, escaped = false, string_is_key = false, value_next = false;
+    std::string text, key1, key2;  // the current string; the last keys at depths 1 and 2
+    size_t commas = 0;
+    bool counting = false, nonempty = false;  // inside a top-level array
     for (char c : json) {
+        const size_t depth = open.size();
         if (in_string) {
             if (escaped)
                 escaped = false;
             else if (c == '\\')
                 escaped = true;
-            else if (c == '"')
+            else if (c == '"') {
                 in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '{' || c == '[') {
-            if (++depth > k_max_json_nesting)
-                throw GltfError("JSON nested deeper than " + std::to_string(k_max_json_nesting) + " levels");
-        } else if (c == '}' || c == ']') {
-            --depth;
+                if (string_is_key) {
+                    if (depth == 1) key1 = text;
+                    if (depth == 2) key2 = text;
+                } else if (depth == 2 && key1 == "asset" && key2 == "version") {
+                    out.version = text;
+                }
+            } else if (depth <= 2 && text.size() < 64) {
+                text += c;
+            }
+            continue;
+        }
+        if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
+        if (counting && depth == 2 && !nonempty && c != ']') nonempty = true;
+        if (value_next && depth == 1) {  // the first character of a top-level member's value
+            if (c == '[') {
+                counting = true;
+                nonempty = false;
+                commas = 0;
+            } else if (c == '{' && k_collections.count(key1)) {
+                out.dictionaries = true;
+            }
+        }
+        value_next = false;
+        switch (c) {
+            case '"':
+                in_string = true;
+                string_is_key = !expect_key.empty() && open.back() == '{' && expect_key.back();
+                text.clear();
+                break;
+            case ':':
+                if (!expect_key.empty()) expect_key.back() = 0;
+                value_next = true;
+                break;
+            case ',':
+                if (!open.empty() && open.back() == '{') expect_key.back() = 1;
+                if (counting && depth == 2) ++commas;
+                break;
+            case '{':
+            case '[':
+                if (open.size() >= size_t(k_max_json_nesting))
+                    throw GltfError("JSON nested deeper than " + std::to_string(k_max_json_nesting) + " levels");
+                open.push_back(c);
+                expect_key.push_back(c == '{');
+                break;
+            case '}':
+            case ']':
+                if (open.empty()) break;  // malformed: tinygltf reports it
+                open.pop_back();
+                expect_key.pop_back();
+                if (c == ']' && counting && open.size() == 1) {
+                    out.array_lengths[key1] = nonempty ? commas + 1 : 0;
+                    counting = false;
+                }
+                break;
+            default: break;
         }
     }
+    return out;
+}
+
+// Refuses, from the outline, what tinygltf must not be given: glTF 1.0, and more elements than
+// any real scene holds (the node graph is walked once per node reference, so a million nodes is
+// already far past what a renderable file carries).
+void check_json_outline(const JsonOutline& outline, std::span<const uint8_t> bytes, bool binary) {
+    uint32_t glb_version = 2;
+    if (binary && bytes.size() >= 8) std::memcpy(&glb_version, bytes.data() + 4, 4);
+    if (outline.dictionaries || outline.version.starts_with("1.") || glb_version == 1)
+        throw GltfError("glTF 1.0 is not supported; convert to 2.0");
+    size_t total = 0;
+    for (const auto& [name, count] : outline.array_lengths) {
+        if (count > k_max_elements)
+            throw GltfError("'" + name + "' has " + std::to_string(count) + " elements, more than the " +
+                            std::to_string(k_max_elements) + " a scene may hold");
+        total += count;
+    }
+    if (total > 4 * k_max_elements)
+        throw GltfError("the file declares " + std::to_string(total) + " objects, more than the " +
+                        std::to_string(4 * k_max_elements) + " a scene may hold");
 }
 
 bool all_finite(const std::vector<double>& values) {
@@ -270,7 +407,7 @@ private:
 
 void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
     if (bytes.size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
-    check_json_nesting(gltf::json_chunk(bytes, binary));
+    check_json_outline(outline_json(gltf::json_chunk(bytes, binary)), bytes, binary);
     std::optional<std::vector<uint8_t>> patched = gltf::patch_draco_index_accessors(bytes, binary, m_draco_indices);
     if (patched) {
         if (patched->size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
@@ -789,6 +926,7 @@ Scene import_gltf_file(const std::string& path, const ImportOptions& options) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw ImportError(path + ": file not found");
     if (fs::is_directory(path, ec)) throw ImportError(path + ": is a directory");
+    if (!fs::is_regular_file(path, ec)) throw ImportError(path + ": not a regular file");
     std::vector<unsigned char> bytes;
     std::string error;
     if (!read_bytes(path, bytes, error)) throw ImportError(path + ": cannot read file (" + error + ")");

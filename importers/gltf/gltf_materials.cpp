@@ -4,6 +4,7 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <optional>
 
@@ -62,6 +63,25 @@ std::string stb_reason() {
     return reason ? reason : "unknown error";
 }
 
+// A factor held to the range the glTF spec (or its extension) gives it, with one warning per
+// kind: a 1e30 base colour would otherwise reach the image as 1e30 times the light, and a
+// negative colour as negative light. Emission strength has no upper bound in the spec; past
+// k_max_emission_strength it would overflow single precision on its way to the film.
+constexpr double k_max_emission_strength = 1e9;
+
+double in_range(double v, double lo, double hi, const char* kind, ImportContext& context) {
+    if (v >= lo && v <= hi) return v;
+    char range[64];
+    std::snprintf(range, sizeof(range), "[%g, %g]", lo, hi);
+    context.warn(std::string(kind) + " outside its range " + range + " clamped");
+    return std::isnan(v) ? lo : std::clamp(v, lo, hi);
+}
+
+template <size_t N>
+void in_range(std::array<double, N>& values, double lo, double hi, const char* kind, ImportContext& context) {
+    for (double& v : values) v = in_range(v, lo, hi, kind, context);
+}
+
 struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
@@ -105,11 +125,16 @@ Material MaterialConverter::convert(int index) {
 
     std::array<double, 4> base{1, 1, 1, 1};
     if (!numbers(pbr.baseColorFactor, base)) m_context.warn(what + ": invalid baseColorFactor, using white");
+    in_range(base, 0.0, 1.0, "baseColorFactor", m_context);
     m.base_color = to_rgb({base[0], base[1], base[2]});
     m.base_alpha = static_cast<float>(base[3]);
     m.base_color_texture = texture_ref(info(pbr.baseColorTexture), ColorSpace::Srgb, what + " baseColorTexture");
-    m.metallic = std::isfinite(pbr.metallicFactor) ? clamp(static_cast<float>(pbr.metallicFactor), 0, 1) : 1.0f;
-    m.roughness = std::isfinite(pbr.roughnessFactor) ? clamp(static_cast<float>(pbr.roughnessFactor), 0, 1) : 1.0f;
+    m.metallic = std::isfinite(pbr.metallicFactor)
+                     ? static_cast<float>(in_range(pbr.metallicFactor, 0.0, 1.0, "metallicFactor", m_context))
+                     : 1.0f;
+    m.roughness = std::isfinite(pbr.roughnessFactor)
+                      ? static_cast<float>(in_range(pbr.roughnessFactor, 0.0, 1.0, "roughnessFactor", m_context))
+                      : 1.0f;
     m.metallic_roughness_texture =
         texture_ref(info(pbr.metallicRoughnessTexture), ColorSpace::Linear, what + " metallicRoughnessTexture");
 
@@ -118,8 +143,10 @@ Material MaterialConverter::convert(int index) {
     if (!src.emissiveFactor.empty() && !numbers(src.emissiveFactor, emissive))
         m_context.warn(what + ": invalid emissiveFactor, using black");
     const tinygltf::Value* strength_ext = json_extension(src.extensions, "KHR_materials_emissive_strength");
-    double strength = json_number(strength_ext, "emissiveStrength", 1.0);
-    m.emission = to_rgb(emissive) * static_cast<float>(std::max(strength, 0.0));
+    in_range(emissive, 0.0, 1.0, "emissiveFactor", m_context);
+    double strength = in_range(json_number(strength_ext, "emissiveStrength", 1.0), 0.0, k_max_emission_strength,
+                               "emissiveStrength", m_context);
+    m.emission = to_rgb(emissive) * static_cast<float>(strength);
     m.emissive_texture = texture_ref(info(src.emissiveTexture), ColorSpace::Srgb, what + " emissiveTexture");
 
     m.normal_texture = texture_ref(info(src.normalTexture), ColorSpace::Linear, what + " normalTexture");
@@ -128,10 +155,13 @@ Material MaterialConverter::convert(int index) {
     m.ior = static_cast<float>(json_number(json_extension(src.extensions, "KHR_materials_ior"), "ior", 1.5));
 
     if (const tinygltf::Value* spec = json_extension(src.extensions, "KHR_materials_specular")) {
-        m.specular = static_cast<float>(json_number(spec, "specularFactor", 1.0));
+        m.specular = static_cast<float>(
+            in_range(json_number(spec, "specularFactor", 1.0), 0.0, 1.0, "specularFactor", m_context));
         std::array<double, 3> color{1, 1, 1};
         if (json_member(spec, "specularColorFactor") && !numbers(json_member(spec, "specularColorFactor"), color))
             m_context.warn(what + ": invalid specularColorFactor, using white");
+        // No upper bound in KHR_materials_specular (F0 is clamped to 1 where it is used).
+        in_range(color, 0.0, k_max_emission_strength, "specularColorFactor", m_context);
         m.specular_color = to_rgb(color);
         m.specular_texture =
             texture_ref(json_info(json_member(spec, "specularTexture")), ColorSpace::Linear, what + " specularTexture");
@@ -140,7 +170,8 @@ Material MaterialConverter::convert(int index) {
     }
 
     if (const tinygltf::Value* tr = json_extension(src.extensions, "KHR_materials_transmission")) {
-        m.transmission = clamp(static_cast<float>(json_number(tr, "transmissionFactor", 0.0)), 0.0f, 1.0f);
+        m.transmission = static_cast<float>(
+            in_range(json_number(tr, "transmissionFactor", 0.0), 0.0, 1.0, "transmissionFactor", m_context));
         m.transmission_texture = texture_ref(json_info(json_member(tr, "transmissionTexture")), ColorSpace::Linear,
                                              what + " transmissionTexture");
     }
@@ -149,13 +180,16 @@ Material MaterialConverter::convert(int index) {
         std::array<double, 3> color{1, 1, 1};
         if (json_member(vol, "attenuationColor") && !numbers(json_member(vol, "attenuationColor"), color))
             m_context.warn(what + ": invalid attenuationColor, using white");
+        in_range(color, 0.0, 1.0, "attenuationColor", m_context);
         m.attenuation_color = to_rgb(color);
         double distance = json_number(vol, "attenuationDistance", 0.0);  // absent: infinite
         m.attenuation_distance = std::isfinite(distance) && distance > 0.0 ? static_cast<float>(distance) : 0.0f;
     }
     if (const tinygltf::Value* cc = json_extension(src.extensions, "KHR_materials_clearcoat")) {
-        m.clearcoat = clamp(static_cast<float>(json_number(cc, "clearcoatFactor", 0.0)), 0.0f, 1.0f);
-        m.clearcoat_roughness = clamp(static_cast<float>(json_number(cc, "clearcoatRoughnessFactor", 0.0)), 0.0f, 1.0f);
+        m.clearcoat = static_cast<float>(
+            in_range(json_number(cc, "clearcoatFactor", 0.0), 0.0, 1.0, "clearcoatFactor", m_context));
+        m.clearcoat_roughness = static_cast<float>(in_range(json_number(cc, "clearcoatRoughnessFactor", 0.0), 0.0, 1.0,
+                                                            "clearcoatRoughnessFactor", m_context));
         m.clearcoat_texture =
             texture_ref(json_info(json_member(cc, "clearcoatTexture")), ColorSpace::Linear, what + " clearcoatTexture");
         m.clearcoat_roughness_texture = texture_ref(json_info(json_member(cc, "clearcoatRoughnessTexture")),
@@ -169,8 +203,10 @@ Material MaterialConverter::convert(int index) {
         std::array<double, 3> color{0, 0, 0};
         if (json_member(sh, "sheenColorFactor") && !numbers(json_member(sh, "sheenColorFactor"), color))
             m_context.warn(what + ": invalid sheenColorFactor, using black");
+        in_range(color, 0.0, 1.0, "sheenColorFactor", m_context);
         m.sheen_color = to_rgb(color);
-        m.sheen_roughness = clamp(static_cast<float>(json_number(sh, "sheenRoughnessFactor", 0.0)), 0.0f, 1.0f);
+        m.sheen_roughness = static_cast<float>(
+            in_range(json_number(sh, "sheenRoughnessFactor", 0.0), 0.0, 1.0, "sheenRoughnessFactor", m_context));
         m.sheen_color_texture =
             texture_ref(json_info(json_member(sh, "sheenColorTexture")), ColorSpace::Srgb, what + " sheenColorTexture");
         m.sheen_roughness_texture = texture_ref(json_info(json_member(sh, "sheenRoughnessTexture")), ColorSpace::Linear,

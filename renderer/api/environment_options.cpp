@@ -1,6 +1,7 @@
 #include "api/environment_options.h"
 
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "textures/image_reader.h"
@@ -17,6 +18,13 @@ void apply_environment(const EnvironmentOptions& options, Scene* scene) {
     env.rotation = options.rotate_degrees * (k_pi / 180.0f);
     env.color = options.has_color ? options.color : Rgb(1.0f);
     if (!options.map_path.empty()) {
+        // A FIFO would block the reader and /dev/zero never ends: only regular files are maps.
+        std::error_code ec;
+        const auto status = std::filesystem::status(options.map_path, ec);
+        if (ec || !std::filesystem::exists(status)) throw std::invalid_argument(options.map_path + ": file not found");
+        if (std::filesystem::is_directory(status)) throw std::invalid_argument(options.map_path + ": is a directory");
+        if (!std::filesystem::is_regular_file(status))
+            throw std::invalid_argument(options.map_path + ": not a regular file");
         ImageData img;
         try {
             img = read_image_linear(options.map_path);

@@ -24,7 +24,9 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
     m_scene_center = b.empty() ? Vec3() : b.center();
     m_scene_radius = b.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(b.diagonal()));
 
-    std::vector<float> power;
+    // Powers in double: pi R^2 E of a sun over a scene 1e18 across overflows a float, and an
+    // infinite weight would leave every light unselectable. Only their ratios matter.
+    std::vector<double> power;
     m_first_emitter.assign(scene.instances.size(), -1);
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
@@ -48,7 +50,7 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
             tl.two_sided = mat.double_sided;
             tl.textured = mat.emissive_texture.valid();
             tl.radiance = mat.emission;
-            float p = tl.area * mat.emission.average() * k_pi * (tl.two_sided ? 2.0f : 1.0f);
+            double p = double(tl.area) * mat.emission.average() * k_pi * (tl.two_sided ? 2.0 : 1.0);
             power.push_back(std::isfinite(p) && tl.area > 0.0f ? p : 0.0f);
             m_lights.emplace_back(tl);
         }
@@ -57,7 +59,7 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
         switch (pl.type) {
             case LightType::Point: {
                 PointLightData d{pl.position, pl.intensity};
-                power.push_back(4.0f * k_pi * pl.intensity.average());
+                power.push_back(4.0 * k_pi * pl.intensity.average());
                 m_lights.emplace_back(d);
                 break;
             }
@@ -71,13 +73,13 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
                 d.smooth = (1.0f - pl.cos_outer) * pl.blend;
                 d.falloff = pl.falloff;
                 // The cone's solid angle bounds the emitted power.
-                power.push_back(2.0f * k_pi * (1.0f - pl.cos_outer) * pl.intensity.average());
+                power.push_back(2.0 * k_pi * (1.0 - pl.cos_outer) * pl.intensity.average());
                 m_lights.emplace_back(d);
                 break;
             }
             case LightType::Directional: {
                 DirectionalLightData d{normalize(pl.direction), pl.intensity};
-                power.push_back(k_pi * m_scene_radius * m_scene_radius * pl.intensity.average());
+                power.push_back(k_pi * double(m_scene_radius) * m_scene_radius * pl.intensity.average());
                 m_lights.emplace_back(d);
                 break;
             }
@@ -86,11 +88,17 @@ LightSet::LightSet(const Scene& scene, const Accel& accel) : m_scene(scene) {
     if (scene.environment.enabled) {
         EnvironmentLight env(scene.environment);
         // The power that crosses the scene's bounding disc: pi R^2 times radiance over the sphere.
-        power.push_back(k_pi * m_scene_radius * m_scene_radius * env.radiance_integral());
+        power.push_back(k_pi * double(m_scene_radius) * m_scene_radius * env.radiance_integral());
         m_environment = static_cast<int64_t>(m_lights.size());
         m_lights.emplace_back(std::move(env));
     }
-    m_select = Distribution1D(power);
+    double largest = 0;
+    for (double p : power)
+        if (std::isfinite(p)) largest = std::max(largest, p);
+    std::vector<float> weights(power.size());
+    for (size_t i = 0; i < power.size(); ++i)
+        weights[i] = largest > 0 && std::isfinite(power[i]) ? float(power[i] / largest) : 0.0f;
+    m_select = Distribution1D(weights);
 }
 
 Rgb LightSet::environment_radiance(const Vec3& w) const {

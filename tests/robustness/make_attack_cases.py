@@ -175,7 +175,50 @@ def confinement_cases():
     case("texture_symlink_outside_folder_is_refused",
          {"../outside_texture/tex.png": png, "scene.gltf": textured, "tex.png": symlink_to("../outside_texture/tex.png")},
          "refused", message="outside")
-    case("texture_fifo_is_refused", {"scene.gltf": textured, "tex.png": fifo}, "refused", message="regular file")
+    case("texture_fifo_is_refused", {"scene.gltf": textured, "tex.png": fifo}, "refused", message="image")
+
+
+def silent_wrong_image_cases():
+    """Inputs that used to render a wrong image with exit 0 and no word said."""
+    lit = [({"type": "point", "intensity": 50}, {"translation": [0, 0, 0]})]
+    for name, material, warning in [
+        ("base_color_1e30_is_clamped", {"pbrMetallicRoughness": {"baseColorFactor": [1e30, 1e30, 1e30, 1]}},
+         "baseColorFactor"),
+        ("base_color_negative_is_clamped", {"pbrMetallicRoughness": {"baseColorFactor": [-1, -2, 0.5, 1]}},
+         "baseColorFactor"),
+        ("emissive_1e39_is_clamped", {"emissiveFactor": [1e39, 1e39, 1e39]}, "emissiveFactor"),
+        ("emissive_negative_is_clamped", {"emissiveFactor": [-1, -1, -1]}, "emissiveFactor"),
+        ("emissive_strength_1e39_is_clamped",
+         {"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e39}}},
+         "emissiveStrength"),
+    ]:
+        def add_ext(g, m=material):
+            if "extensions" in m:
+                g.setdefault("extensionsUsed", []).append("KHR_materials_emissive_strength")
+        case(name, {"scene.gltf": triangle_gltf(material=material, lights=lit, extra=add_ext)}, "rendered",
+             warning=warning)
+    # Lights whose power overflows single precision would leave every light unselectable.
+    for name, light in [("point_light_1e37_renders", {"type": "point", "intensity": 1e37 * 683}),
+                        ("sun_1e35_renders", {"type": "directional", "intensity": 1e35 * 683})]:
+        for integrator in ("pt", "bdpt"):
+            case(f"{name}_{integrator}",
+                 {"scene.gltf": triangle_gltf(material={}, lights=[(light, {"translation": [0, 0, 0]})])},
+                 "rendered", args=["--integrator", integrator])
+    # A time limit that ends before the first pass: an error, never an image tagged complete.
+    case("time_limit_before_first_pass_is_refused", {"scene.gltf": triangle_gltf()}, "refused",
+         args=["--time", "1e-9", "--spp", "1000000"], message="time limit")
+    # glTF 1.0 (dictionaries where 2.0 has arrays): tinygltf would read it as an empty scene.
+    v1 = {"asset": {"version": "1.0"}, "scene": "s", "scenes": {"s": {"nodes": []}}, "nodes": {},
+          "meshes": {}, "accessors": {}, "bufferViews": {}, "buffers": {}}
+    case("gltf_1_0_is_refused", {"scene.gltf": v1}, "refused", message="glTF 1.0 is not supported")
+    v1_no_version = dict(v1)
+    del v1_no_version["asset"]
+    case("gltf_1_0_without_version_is_refused", {"scene.gltf": v1_no_version}, "refused",
+         message="glTF 1.0 is not supported")
+    glb1 = json.dumps(v1).encode()
+    glb1 += b" " * (-len(glb1) % 4)
+    case("glb_1_0_is_refused", {"scene.glb": b"glTF" + struct.pack("<III", 1, 20 + len(glb1), len(glb1)) + struct.pack("<I", 0) + glb1},
+         "refused", message="glTF 1.0 is not supported", input_name="scene.glb")
 
 
 def png_bytes(width, height, declared=None, pixel=b"\x80\x80\x80"):
@@ -210,6 +253,8 @@ def main():
     out = pathlib.Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
     camera_cases()
+    confinement_cases()
+    silent_wrong_image_cases()
     manifest = []
     for c in CASES:
         folder = out / c["name"]
