@@ -49,6 +49,9 @@ void install_stop_handlers() {
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+    // `veach render ... 2>&1 | head -1`: once the reader is gone, messages to the pipe fail with
+    // EPIPE (and are lost) instead of killing the render with SIGPIPE.
+    ::signal(SIGPIPE, SIG_IGN);
 }
 
 const char* signal_name(int sig) {

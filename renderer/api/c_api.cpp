@@ -111,8 +111,16 @@ void VeachDeviceImpl::report(VeachError code, const std::string& message) {
         fn = m_error_fn;
         user = m_error_user;
     }
-    // Outside the lock: the callback may call back into the API.
-    if (fn) fn(user, code, message.c_str());
+    // Outside the lock: the callback may call back into the API. A call of its that fails
+    // again is not reported to it (the last error still holds it): a callback that logs through
+    // a failing call would otherwise recurse until the stack ends.
+    thread_local bool in_callback = false;
+    if (!fn || in_callback) return;
+    in_callback = true;
+    struct Reset {
+        ~Reset() { in_callback = false; }
+    } reset;
+    fn(user, code, message.c_str());
 }
 
 extern "C" {

@@ -78,6 +78,9 @@ struct VeachRenderImpl : veach::capi::RefCounted {
     std::atomic<bool> m_cancel{false};
     std::atomic<double> m_progress{0}, m_eta{0};
     std::thread m_worker;  // the asynchronous render's thread
+    // The thread inside run() (the worker, or veachRender's caller), so that waiting on the
+    // render from its own callbacks is refused instead of waiting forever.
+    std::atomic<std::thread::id> m_render_thread{};
 
     ~VeachRenderImpl();
     // Renders on the calling thread; m_status must already be RUNNING. Returns the outcome.

@@ -29,6 +29,16 @@ VeachRenderImpl::~VeachRenderImpl() {
 }
 
 VeachError VeachRenderImpl::run() {
+    m_render_thread = std::this_thread::get_id();
+    struct Leave {
+        std::atomic<std::thread::id>& id;
+        // Only if still ours: once the status is published, the next render may have begun
+        // on another thread (a synchronous render right after an asynchronous one finished).
+        ~Leave() {
+            std::thread::id self = std::this_thread::get_id();
+            id.compare_exchange_strong(self, std::thread::id());
+        }
+    } leave{m_render_thread};
     veach::RenderJobOptions job;
     VeachProgressFunction progress_fn;
     void* progress_user;
@@ -57,6 +67,14 @@ VeachError VeachRenderImpl::run() {
     VeachStatus status = VEACH_STATUS_DONE;
     try {
         auto result = std::make_shared<veach::RenderResult>(veach::render_scene(m_scene->m_scene, job, control));
+        // A time limit shorter than the first pass leaves no image at all: an error, never an
+        // empty image presented as the render.
+        if (result->stats.spp_done == 0 && !result->stats.cancelled && job.render.time_limit > 0) {
+            char limit[32];
+            std::snprintf(limit, sizeof(limit), "%g", job.render.time_limit);
+            throw std::invalid_argument(std::string("the time limit (") + limit +
+                                        " s) ran out before the first sample pass; nothing was rendered");
+        }
         // A cancel that came after the last pass leaves a complete image: only fewer samples than
         // asked (or than a checkpoint already held) is a cancelled render.
         if (result->stats.cancelled && result->stats.spp_done < std::max(job.render.spp, result->resumed_spp)) {
@@ -70,7 +88,9 @@ VeachError VeachRenderImpl::run() {
         std::lock_guard<std::mutex> lock(m_mutex);
         m_result = std::move(result);
         m_result_job = job;
-        m_result_complete = status == VEACH_STATUS_DONE;
+        // A time limit may stop a render short of its samples: done, but not complete.
+        m_result_complete =
+            status == VEACH_STATUS_DONE && m_result->stats.spp_done >= std::max(job.render.spp, m_result->resumed_spp);
     } catch (...) {
         outcome = veach::capi::code_of_current_exception(message);
         status = VEACH_STATUS_FAILED;
@@ -499,6 +519,10 @@ VEACH_API VeachError veachRenderAsync(VeachRender render) {
 VEACH_API VeachStatus veachWaitRender(VeachRender render, int timeout_ms) {
     return guarded<VeachStatus>(device_of(render), VEACH_STATUS_FAILED, [&] {
         check_render(render, "veachWaitRender");
+        if (render->m_render_thread.load() == std::this_thread::get_id())
+            throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                           "veachWaitRender: called from the render's own thread (its progress or error callback); "
+                           "it would wait for itself"};
         std::unique_lock<std::mutex> lock(render->m_mutex);
         auto finished = [&] { return render->m_status != VEACH_STATUS_RUNNING; };
         if (timeout_ms < 0)

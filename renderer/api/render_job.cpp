@@ -9,6 +9,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/available_memory.h"
 #include "film/film_checkpoint.h"
 
 namespace veach {
@@ -46,6 +47,30 @@ void check_scene_extent(const Scene& scene) {
     }
 }
 
+// The memory a render allocates beyond the loaded scene: the film's per-pixel sums, splats,
+// adaptive-sampling plan, AOV sums, the resolved image and its passes, a checkpoint's copy of the
+// state and the encoded output; then the mip pyramids textures build lazily (a third of each
+// texture). Compared with what the process may still take (cgroup and ulimit included) before
+// anything is allocated: a 16384x16384 film needs about 4 GiB, and an OOM kill says nothing.
+void check_render_memory(const Scene& scene, const RenderJobOptions& options, int width, int height) {
+    uint64_t per_pixel = sizeof(Film::PixelSums) + 3 * sizeof(double)  // sums, splats
+                         + sizeof(uint32_t) + 3 * sizeof(double)       // adaptive plan, pilot splats
+                         + (4 + 3 + 1) * sizeof(float)                 // resolved RGBA, variance, counts
+                         + 4 * sizeof(float);                          // the encoded output
+    if (options.film.aovs) per_pixel += 8 * sizeof(double) + 7 * sizeof(float);
+    if (options.checkpoint.write) per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0)) * sizeof(double);
+    const uint64_t film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+    uint64_t mips = 0;
+    for (const Texture& t : scene.textures) mips += t.texels.size() * sizeof(float) / 3;
+    const uint64_t available = available_memory_bytes();
+    if (film + mips > available) {
+        auto mib = [](uint64_t b) { return std::to_string(b >> 20) + " MiB"; };
+        throw std::invalid_argument("a " + std::to_string(width) + "x" + std::to_string(height) + " render needs " +
+                                    mib(film + mips) + " (film " + mib(film) + ", texture mip levels " + mib(mips) +
+                                    "), more than the " + mib(available) + " of memory available");
+    }
+}
+
 }  // namespace
 
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control) {
@@ -65,6 +90,7 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     result.camera_name = camera ? camera->name : "default";
     result.triangles = scene.triangle_count();
     check_scene_extent(scene);
+    check_render_memory(scene, options, width, height);
     auto t0 = clock::now();
     RenderScene rs(scene, camera, width, height);
     auto t1 = clock::now();

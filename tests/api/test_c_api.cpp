@@ -668,4 +668,56 @@ TEST(CppWrapper, SceneOptionsStatsAndStrings) {
     EXPECT_NEAR(px[2], 4.0f, 1e-5f);
 }
 
+// Waiting on a render from its own progress callback would wait for itself: refused with
+// INVALID_OPERATION (the render then finishes normally), from an asynchronous render's thread
+// and from a synchronous render's caller alike.
+bool wait_from_progress(void* user, double, double) {
+    auto* r = static_cast<std::pair<VeachRender, std::atomic<int>>*>(user);
+    if (veachWaitRender(r->first, -1) == VEACH_STATUS_FAILED &&
+        veachGetLastErrorCode() == VEACH_ERROR_INVALID_OPERATION)
+        ++r->second;
+    return true;
+}
+
+TEST_F(CApi, WaitFromTheRendersOwnCallbackIsRefused) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    VeachRender r = new_cornell_render(s, 2);
+    std::pair<VeachRender, std::atomic<int>> state{r, 0};
+    veachSetProgressFunction(r, wait_from_progress, &state);
+    ASSERT_EQ(veachRenderAsync(r), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachWaitRender(r, -1), VEACH_STATUS_DONE);
+    EXPECT_GE(state.second.load(), 1);
+    state.second = 0;
+    EXPECT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    EXPECT_GE(state.second.load(), 1);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+// An error callback that itself makes a failing call is not called again for that failure (the
+// last error still records it): no recursion without end.
+struct Recursion {
+    VeachDevice device;
+    int depth = 0, calls = 0;
+};
+void failing_logger(void* user, VeachError, const char*) {
+    auto* r = static_cast<Recursion*>(user);
+    ++r->calls;
+    ++r->depth;
+    if (r->depth < 1000) veachNewSceneFromFile(r->device, "/nonexistent/scene.gltf");
+    --r->depth;
+}
+
+TEST_F(CApi, ErrorCallbackCallingAFailingFunctionDoesNotRecurse) {
+    Recursion state{m_device};
+    veachSetDeviceErrorFunction(m_device, failing_logger, &state);
+    EXPECT_EQ(veachNewSceneFromFile(m_device, "/nonexistent/other.gltf"), nullptr);
+    EXPECT_EQ(state.calls, 1);
+    EXPECT_EQ(veachGetLastErrorCode(), VEACH_ERROR_BAD_INPUT);
+    // Once the callback has returned, the next failure reaches it again.
+    EXPECT_EQ(veachNewSceneFromFile(m_device, "/nonexistent/third.gltf"), nullptr);
+    EXPECT_EQ(state.calls, 2);
+}
+
 }  // namespace

@@ -89,6 +89,27 @@ def check_case(veach, c, timeout):
     return None
 
 
+def check_reader_gone(veach, cases_dir):
+    """`veach render ... 2>&1 | head -1`: the reader of stderr leaves after the first line; the
+    render must still finish and write its image (exit 0), not die of SIGPIPE."""
+    folder = os.path.join(cases_dir, "stderr_reader_gone")
+    os.makedirs(folder, exist_ok=True)
+    image = os.path.join(folder, "out.exr")
+    if os.path.exists(image):
+        os.remove(image)
+    scene = os.path.join(cases_dir, "camera_scale_huge_uniform_renders", "scene.gltf")
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # nobody reads: every write to stderr fails
+    p = subprocess.run([veach, "render", scene, "-o", image, "--width", "32", "--spp", "64", "--threads", "1"],
+                       stdout=write_end, stderr=write_end, timeout=120)
+    os.close(write_end)
+    if p.returncode != 0:
+        return f"exit {p.returncode} with its stderr reader gone (SIGPIPE is {-signal.SIGPIPE})"
+    if not os.path.exists(image):
+        return "no image written with its stderr reader gone"
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--veach", required=True)
@@ -114,13 +135,15 @@ def main():
     failures = 0
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda c: (c, check_case(args.veach, c, args.timeout)), cases))
+    if not args.only:
+        results.append(({"name": "stderr_reader_gone"}, check_reader_gone(args.veach, args.cases)))
     for c, fault in results:
         if fault:
             failures += 1
             print(f"FAIL {c['name']}: {fault}")
         else:
             print(f"ok   {c['name']}")
-    print(f"{len(cases) - failures} of {len(cases)} cases keep their contract")
+    print(f"{len(results) - failures} of {len(results)} cases keep their contract")
     return 1 if failures else 0
 
 

@@ -73,7 +73,9 @@ typedef struct VeachDeviceImpl* VeachDevice;
 typedef struct VeachSceneImpl* VeachScene;
 typedef struct VeachRenderImpl* VeachRender;
 
-/* Called on the thread where the error happened (a render's own thread for asynchronous renders). */
+/* Called on the thread where the error happened (a render's own thread for asynchronous renders).
+ * A failing call made from inside the callback is not reported to it again (its last error is
+ * still set): no recursion. */
 typedef void (*VeachErrorFunction)(void* user, VeachError code, const char* message);
 
 /* Called after each pass of samples with the fraction done in [0, 1] and the estimated seconds
@@ -207,7 +209,9 @@ VEACH_API VeachError veachRender(VeachRender render);
 /* Starts the same render on a thread of its own and returns at once. */
 VEACH_API VeachError veachRenderAsync(VeachRender render);
 /* Waits up to timeout_ms (negative: forever) and returns the status. A failed render's error is
- * reported to this caller too (last error). */
+ * reported to this caller too (last error). Called from the render's own thread (its progress or
+ * error callback) it would wait for itself: it returns VEACH_STATUS_FAILED at once, with
+ * VEACH_ERROR_INVALID_OPERATION as the last error. */
 VEACH_API VeachStatus veachWaitRender(VeachRender render, int timeout_ms);
 VEACH_API VeachStatus veachGetRenderStatus(VeachRender render);
 /* Asks a running render to stop; returns at once. The render stops within one 16x16 tile.
