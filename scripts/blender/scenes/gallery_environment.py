@@ -21,7 +21,7 @@ def sky(i, j):
     colour = (0.9 - 0.6 * height, 1.0 - 0.45 * height, 1.2)
     du, dv = (u - SUN[0]) * 2.0, v - SUN[1]
     if du * du + dv * dv < 0.02 ** 2:
-        return (2000.0, 1800.0, 1500.0)
+        return (150.0, 135.0, 115.0)
     return tuple(0.6 * c for c in colour)
 
 
