@@ -33,6 +33,8 @@ get_target_property(_veach_draco_inc draco::draco_static INTERFACE_INCLUDE_DIREC
 set_target_properties(veach_draco PROPERTIES IMPORTED_LOCATION ${_veach_draco_copy}
   INTERFACE_INCLUDE_DIRECTORIES "${_veach_draco_inc}")
 find_package(Threads REQUIRED)
+# Part files (.vpart) are zlib streams (renderer/film/film_part.cpp), from zlib1g-dev.
+find_package(ZLIB REQUIRED)
 
 # OpenImageIO's config lists /usr/include/opencv4 among its include directories even when
 # libopencv-dev is absent, which fails CMake's generate step.

@@ -23,6 +23,7 @@
 
 #include <tiny_gltf.h>
 
+#include "core/content_hash.h"
 #include "importers/gltf/gltf_accessors.h"
 #include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_extensions.h"
@@ -84,6 +85,7 @@ struct UriPolicy {
     // Synthetic files served as zero bytes (EXT_meshopt_compression fallback buffers: uri ->
     // size), only those the importer itself added to the file.
     std::map<std::string, uint64_t> zero_files;
+    uint64_t content_hash = 0;  // every file read so far, by content (Scene::content_hash)
 };
 
 // The path resolve_uri returns for a synthetic file: not a path any file system has.
@@ -189,7 +191,11 @@ bool read_file(std::vector<unsigned char>* out, std::string* err, const std::str
         return true;
     }
     std::string error;
-    if (read_bytes(path, *out, error)) return true;
+    if (read_bytes(path, *out, error)) {
+        auto* policy = static_cast<UriPolicy*>(user);
+        policy->content_hash = fnv1a_64(out->data(), out->size(), policy->content_hash);
+        return true;
+    }
     if (err) *err += error;
     return false;
 }
@@ -357,7 +363,9 @@ public:
 
     Scene run(std::span<const uint8_t> bytes, bool binary, const std::string& display_name) {
         m_scene.source_path = display_name;
+        m_uri_policy.content_hash = fnv1a_64(bytes.data(), bytes.size());
         load(bytes, binary);
+        m_scene.content_hash = m_uri_policy.content_hash;
         check_extensions();
         m_materials = std::make_unique<gltf::MaterialConverter>(m_model, *m_context);
         parse_lights();

@@ -1,5 +1,7 @@
 #include "cli_options.h"
 
+#include "farm_options.h"
+
 #include <glob.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@ namespace veach::cli {
 
 const char* usage_text() {
     return R"(usage: veach render INPUT... -o OUTPUT [options]
+       veach merge PART.vpart... -o OUTPUT [--expect-spp N]   (see veach merge --help)
        veach color     (the colour config's displays, views and looks)
        veach --version | --help
 
@@ -65,6 +68,12 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
                           SECONDS; 0 every pass) so that a killed render can resume
   --resume                continue from OUTPUT.checkpoint when it exists (same settings; spp
                           may grow); the result equals an uninterrupted render
+  --samples A:B           render only sample indices [A, B) of the --spp N render
+                          (0 <= A < B <= N; not with --noise or --time): a part for a farm
+  --pixelbounds X0,X1,Y0,Y1  render only pixels [X0,X1) x [Y0,Y1) (pbrt-v4's order); bdpt and
+                          lt splats still land on the whole frame
+                          An output ending in .vpart is a part file (exact sums, splats, sample
+                          range, bounds, identity) for `veach merge`
   -q, --quiet             no progress output
 
 SIGINT, SIGTERM and SIGHUP stop sampling and write the image as it stands, with the samples
@@ -223,6 +232,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             return args[++i];
         };
         constexpr long long int_max = std::numeric_limits<int>::max();
+        if (parse_farm_render_option(args, i, cmd)) continue;  // --samples, --pixelbounds
         if (a == "-o" || a == "--output")
             cmd.outputs.push_back(value());
         else if (a == "--width")
@@ -351,6 +361,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
         if (cmd.inputs.size() > 1 && o.find("{stem}") == std::string::npos)
             throw UsageError("several inputs need an output pattern with {stem}, e.g. -o out/{stem}.exr");
     render_opt(string_option("integrator", integrator), "unknown integrator '" + integrator + "'");
+    check_farm_render_options(cmd);
     return cmd;
 }
 

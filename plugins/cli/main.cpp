@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "cli_options.h"
+#include "farm_options.h"
 #include "veach/veach.h"
 
 namespace veach::cli {
@@ -372,7 +373,7 @@ int run(int argc, char** argv) {
         std::printf("veach %s\n", veachGetVersionString());
         return k_ok;
     }
-    if (args[0] != "render" && args[0] != "color" && args[0] != "colour") {
+    if (args[0] != "render" && args[0] != "merge" && args[0] != "color" && args[0] != "colour") {
         std::fprintf(stderr, "veach: unknown command '%s' (try 'veach --help')\n", args[0].c_str());
         return k_usage;
     }
@@ -389,6 +390,7 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "veach: %s\n", veachGetLastError());
         return k_failure;
     }
+    if (args[0] == "merge") return run_merge_command(device.h, std::vector<std::string>(args.begin() + 1, args.end()));
     if (args[0] != "render") return list_color_config(device.h);
     RenderCommand cmd;
     try {

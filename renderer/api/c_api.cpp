@@ -13,6 +13,7 @@
 #include "api/c_api_handles.h"
 #include "api/render_job.h"
 #include "film/film_checkpoint.h"
+#include "film/film_part.h"
 #include "importers/importer.h"
 #include "integrators/integrator.h"
 #include "output/atomic_file.h"
@@ -68,6 +69,9 @@ VeachError code_of_current_exception(std::string& message) {
         // a checkpoint that cannot be read or belongs to another render is bad input (exit 2).
         message = e.what();
         return VEACH_ERROR_OUTPUT;
+    } catch (const PartError& e) {
+        message = e.what();
+        return VEACH_ERROR_BAD_INPUT;
     } catch (const CheckpointError& e) {
         message = e.what();
         return VEACH_ERROR_BAD_INPUT;

@@ -74,6 +74,7 @@ struct VeachRenderImpl : veach::capi::RefCounted {
     VeachError m_failure = VEACH_ERROR_NONE;              // why the last render failed
     std::string m_failure_message;
 
+    bool m_from_parts = false;  // made by veachNewRenderFromParts: a result, no scene to render
     std::atomic<int> m_status{VEACH_STATUS_IDLE};
     std::atomic<bool> m_cancel{false};
     std::atomic<double> m_progress{0}, m_eta{0};

@@ -7,6 +7,7 @@
 // the tiles already running finish their current pass (up to 16 samples per pixel of one tile
 // per worker thread); tests/api measures it. Building the BVH is not interruptible.
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -77,7 +78,8 @@ VeachError VeachRenderImpl::run() {
         }
         // A cancel that came after the last pass leaves a complete image: only fewer samples than
         // asked (or than a checkpoint already held) is a cancelled render.
-        if (result->stats.cancelled && result->stats.spp_done < std::max(job.render.spp, result->resumed_spp)) {
+        const int target = job.part.sample_end > 0 ? job.part.sample_end : job.render.spp;
+        if (result->stats.cancelled && result->stats.spp_done < std::max(target, result->resumed_spp)) {
             status = VEACH_STATUS_CANCELLED;
             outcome = VEACH_ERROR_CANCELLED;
             message = "render cancelled after " + std::to_string(result->stats.spp_done) + " samples per pixel";
@@ -134,32 +136,35 @@ int to_int(const std::string& name, long long value, long long lo, long long hi)
 constexpr long long k_int_max = std::numeric_limits<int>::max();
 
 // The options' names by type (OptionTable, c_api_handles.h).
-const OptionTable k_options{"option",
-                            {"width",
-                             "height",
-                             "spp",
-                             "seed",
-                             "max_depth",
-                             "threads",
-                             "bits",
-                             "quality",
-                             "half",
-                             "aovs",
-                             "bdpt_s",
-                             "bdpt_t",
-                             "resume",
-                             "result_width",
-                             "result_height",
-                             "result_spp",
-                             "result_resumed_spp",
-                             "result_complete",
-                             "result_camera_samples",
-                             "result_rays",
-                             "result_nonfinite_samples"},
-                            {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval",
-                             "progress", "eta_seconds", "render_seconds", "build_seconds"},
-                            {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec",
-                             "passes", "checkpoint", "result_camera", "result_integrator", "result_warnings"}};
+const OptionTable k_options{
+    "option",
+    {"width",
+     "height",
+     "spp",
+     "seed",
+     "max_depth",
+     "threads",
+     "bits",
+     "quality",
+     "half",
+     "aovs",
+     "bdpt_s",
+     "bdpt_t",
+     "resume",
+     "sample_begin",
+     "sample_end",
+     "result_width",
+     "result_height",
+     "result_spp",
+     "result_resumed_spp",
+     "result_complete",
+     "result_camera_samples",
+     "result_rays",
+     "result_nonfinite_samples"},
+    {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress", "eta_seconds",
+     "render_seconds", "build_seconds"},
+    {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes", "checkpoint",
+     "pixelbounds", "result_camera", "result_integrator", "result_warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
@@ -190,6 +195,37 @@ std::vector<std::string> parse_passes(const std::string& v) {
     return passes;
 }
 
+// "X0,X1,Y0,Y1" (pbrt's order), or "" for the whole frame. The image size is known only when
+// rendering, which checks the bounds against it.
+void parse_pixel_bounds(const std::string& v, veach::PartSettings* part) {
+    if (v.empty()) {
+        part->has_bounds = false;
+        return;
+    }
+    long long b[4];
+    const char* p = v.c_str();
+    for (int k = 0; k < 4; ++k) {
+        char* end = nullptr;
+        errno = 0;
+        b[k] = std::strtoll(p, &end, 10);
+        if (end == p || errno != 0 || b[k] < 0 || b[k] > 65536 || *end != (k < 3 ? ',' : '\0'))
+            throw invalid("option 'pixelbounds' expects X0,X1,Y0,Y1 (whole numbers, X0 < X1, Y0 < Y1), not '" + v +
+                          "'");
+        p = end + 1;
+    }
+    if (b[0] >= b[1] || b[2] >= b[3])
+        throw invalid("option 'pixelbounds' expects X0,X1,Y0,Y1 with X0 < X1 and Y0 < Y1, not '" + v + "'");
+    part->has_bounds = true;
+    part->x0 = static_cast<int>(b[0]);
+    part->x1 = static_cast<int>(b[1]);
+    part->y0 = static_cast<int>(b[2]);
+    part->y1 = static_cast<int>(b[3]);
+}
+
+bool is_part_path(const std::string& path) {
+    return path.size() >= 6 && path.compare(path.size() - 6, 6, ".vpart") == 0;
+}
+
 }  // namespace
 
 extern "C" {
@@ -203,6 +239,66 @@ VEACH_API VeachRender veachNewRender(VeachScene scene) {
         auto* r = new VeachRenderImpl();
         veachRetainScene(scene);
         r->m_scene = scene;
+        return r;
+    });
+}
+
+VEACH_API VeachRender veachNewRenderFromParts(VeachDevice device, const char* const* paths, size_t count,
+                                              long long expect_spp) {
+    return guarded<VeachRender>(device, nullptr, [&] {
+        if (!device) throw invalid("veachNewRenderFromParts: null device");
+        if (!paths || count == 0) throw invalid("veachNewRenderFromParts: no part files");
+        if (expect_spp < 0 || expect_spp > k_int_max)
+            throw invalid("veachNewRenderFromParts: expect_spp outside [0, " + std::to_string(k_int_max) + "]");
+        std::vector<std::string> files;
+        for (size_t i = 0; i < count; ++i) {
+            if (!paths[i] || !*paths[i]) throw invalid("veachNewRenderFromParts: empty path");
+            files.emplace_back(paths[i]);
+        }
+        veach::MergedParts merged = veach::merge_film_parts(files, static_cast<int>(expect_spp));
+        const veach::PartInfo& info = merged.info;
+        auto result = std::make_shared<veach::RenderResult>();
+        result->image = merged.film->resolve(merged.splat_spp);
+        result->camera_name = info.camera;
+        result->integrator = info.integrator;
+        result->render_seconds = info.render_seconds;
+        result->part = info;
+        if (merged.single_piece) {
+            result->stats.spp_done = info.sample_end;  // the metadata says sample_end - sample_begin
+            result->film = merged.film;
+        } else {
+            // Several ranges or rectangles: the image holds what every pixel has.
+            result->part.sample_begin = 0;
+            result->part.x0 = result->part.y0 = 0;
+            result->part.x1 = info.width;
+            result->part.y1 = info.height;
+            result->stats.spp_done = merged.min_spp;
+        }
+        result->stats.camera_samples = 0;
+        for (int y = 0; y < info.height; ++y)
+            for (int x = 0; x < info.width; ++x)
+                result->stats.camera_samples += static_cast<uint64_t>(merged.film->pixel_sums(x, y).weight);
+
+        // A render of no scene, holding the merged result: written like any other, never rendered.
+        auto* scene = new VeachSceneImpl();
+        veachRetainDevice(device);
+        scene->m_device = device;
+        scene->m_source = info.scene;
+        scene->m_loaded = true;
+        auto* r = new VeachRenderImpl();
+        r->m_scene = scene;
+        r->m_from_parts = true;
+        r->m_job.render.spp = info.spp;
+        r->m_job.render.seed = info.seed;
+        r->m_job.render.integrator = info.integrator;
+        r->m_job.film.filter = info.filter;
+        r->m_job.film.aovs = info.aovs;
+        r->m_job.width = info.width;
+        r->m_job.height = info.height;
+        r->m_result_job = r->m_job;
+        r->m_result = std::move(result);
+        r->m_result_complete = merged.min_spp >= info.spp;
+        r->m_status = VEACH_STATUS_DONE;
         return r;
     });
 }
@@ -252,6 +348,10 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
             job.render.bdpt_t = to_int(n, value, -1, 1000);
         else if (n == "resume")
             job.checkpoint.resume = to_int(n, value, 0, 1) != 0;
+        else if (n == "sample_begin")
+            job.part.sample_begin = to_int(n, value, 0, k_int_max - 1);
+        else if (n == "sample_end")
+            job.part.sample_end = to_int(n, value, 0, k_int_max);
         return VEACH_ERROR_NONE;
     });
 }
@@ -332,6 +432,8 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
                 if (veach::pass_needs_aovs(p)) render->m_job.film.aovs = true;
         } else if (n == "checkpoint")
             render->m_job.checkpoint.path = v;
+        else if (n == "pixelbounds")
+            parse_pixel_bounds(v, &render->m_job.part);
         else
             throw invalid("option '" + n + "' is read-only");
         return VEACH_ERROR_NONE;
@@ -372,13 +474,17 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
         else if (n == "result_height")
             *value = r ? r->image.height : 0;
         else if (n == "result_spp")
-            *value = r ? r->stats.spp_done : 0;
+            *value = r ? r->stats.spp_done - r->part.sample_begin : 0;  // the samples each pixel holds
         else if (n == "bdpt_s")
             *value = job.render.bdpt_s;
         else if (n == "bdpt_t")
             *value = job.render.bdpt_t;
         else if (n == "resume")
             *value = job.checkpoint.resume ? 1 : 0;
+        else if (n == "sample_begin")
+            *value = job.part.sample_begin;
+        else if (n == "sample_end")
+            *value = job.part.sample_end;
         else if (n == "result_resumed_spp")
             *value = r ? r->resumed_spp : 0;
         else if (n == "result_complete")
@@ -456,6 +562,10 @@ VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* 
             value = join(out.passes, ",");
         else if (n == "checkpoint")
             value = job.checkpoint.path;
+        else if (n == "pixelbounds")
+            value = job.part.has_bounds ? std::to_string(job.part.x0) + "," + std::to_string(job.part.x1) + "," +
+                                              std::to_string(job.part.y0) + "," + std::to_string(job.part.y1)
+                                        : "";
         else if (n == "result_camera")
             value = r ? r->camera_name : "";
         else if (n == "result_integrator")
@@ -482,6 +592,9 @@ namespace {
 
 // Moves the render from not-running to RUNNING, atomically, so two starts cannot both win.
 void claim(VeachRender render, const char* function) {
+    if (render->m_from_parts)
+        throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                       std::string(function) + ": a render of merged parts has no scene"};
     int expected = render->m_status.load();
     do {
         if (expected == VEACH_STATUS_RUNNING)
@@ -618,13 +731,35 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path) {
             complete = render->m_result_complete;
         }
         if (!result) throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachWriteImage: nothing rendered yet"};
+        if (is_part_path(path)) {
+            if (!result->film)
+                throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                               std::string(path) +
+                                   ": these merged parts are not one sample range over one rectangle, "
+                                   "which a part file holds"};
+            veach::PartInfo info = result->part;
+            if (info.sample_end <= info.sample_begin)
+                throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                               std::string(path) + ": no sample was completed, nothing to write"};
+            info.scene = render->m_scene->m_source;
+            veach::write_film_part(path, *result->film, info);
+            return VEACH_ERROR_NONE;
+        }
         auto& meta = settings.metadata;
         meta["Software"] = std::string("veach ") + VEACH_VERSION_STRING;
         if (!render->m_scene->m_source.empty()) meta["veach:scene"] = render->m_scene->m_source;
         meta["veach:camera"] = result->camera_name;
         // The samples per pixel every pixel completed: after a cancel some pixels hold one more
         // pass, which per-pixel averaging keeps unbiased.
-        meta["veach:spp"] = std::to_string(result->stats.spp_done);
+        const veach::PartInfo& part = result->part;
+        const bool whole = part.sample_begin == 0 && part.x0 == 0 && part.y0 == 0 && part.x1 == result->image.width &&
+                           part.y1 == result->image.height;
+        meta["veach:spp"] = std::to_string(result->stats.spp_done - part.sample_begin);
+        if (!whole) {
+            meta["veach:samples"] = std::to_string(part.sample_begin) + ":" + std::to_string(result->stats.spp_done);
+            meta["veach:pixelbounds"] = std::to_string(part.x0) + "," + std::to_string(part.x1) + "," +
+                                        std::to_string(part.y0) + "," + std::to_string(part.y1);
+        }
         meta["veach:spp_requested"] = std::to_string(job.render.spp);
         meta["veach:complete"] = complete ? "yes" : "no";
         meta["veach:seed"] = std::to_string(job.render.seed);

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
+#include "core/content_hash.h"
 #include "film/film_checkpoint.h"
 #include "scene/scene_repair.h"
 
@@ -80,13 +81,27 @@ const char* spot_name(veach::SpotProfile p) {
     }
 }
 
-// Every scene option as text, for the checkpoint hash.
-std::string options_key(const VeachSceneImpl& s) {
+// Every scene option, and the environment map's content (never its path), for the identity of
+// checkpoints and part files (core/content_hash.h).
+uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash) {
     const veach::EnvironmentOptions& env = s.m_environment;
-    return "|scene=" + std::to_string(s.m_import.scene_index) + "|variant=" + s.m_import.variant +
-           "|spot=" + spot_name(s.m_import.spot_profile) + "|env=" + env.map_path + "|" +
-           std::to_string(env.has_color) + "|" + std::to_string(env.color.r) + "," + std::to_string(env.color.g) + "," +
-           std::to_string(env.color.b) + "|" + std::to_string(env.strength) + "|" + std::to_string(env.rotate_degrees);
+    veach::HashKey key("veach-scene-v2");
+    key.field("content", content_hash)
+        .field("scene", s.m_import.scene_index)
+        .field("variant", s.m_import.variant)
+        .field("spot", spot_name(s.m_import.spot_profile))
+        .field("env_map", !env.map_path.empty())
+        .field("env_has_color", env.has_color)
+        .field("env_r", env.color.r)
+        .field("env_g", env.color.g)
+        .field("env_b", env.color.b)
+        .field("env_strength", env.strength)
+        .field("env_rotate", env.rotate_degrees);
+    uint64_t map = veach::k_fnv_offset;
+    if (!env.map_path.empty() && !veach::hash_file_content(env.map_path, &map))
+        throw ApiError{VEACH_ERROR_BAD_INPUT, env.map_path + ": cannot read the environment map"};
+    key.field("env_map_content", map);
+    return key.value();
 }
 
 // What every front end does after importing, so that they all render the same image: the
@@ -101,7 +116,7 @@ void finish_load(VeachSceneImpl* s, veach::Scene&& scene, uint64_t content_hash)
     veach::light_unlit_scene(scene);
     veach::rebase_scene(scene);
     s->m_scene = std::move(scene);
-    s->m_content_hash = veach::fnv1a_64(options_key(*s), content_hash);
+    s->m_content_hash = scene_options_hash(*s, content_hash);
     s->m_loaded = true;
 }
 
@@ -118,14 +133,9 @@ VeachError load_file(VeachScene scene, const char* path) {
     return load(scene, "veachLoadSceneFile", [&] {
         if (!path || !*path) throw invalid("veachLoadSceneFile: empty path");
         veach::Scene imported = veach::import_scene(path, scene->m_import);
-        // The path and the file's bytes: a checkpoint resumes only the same content.
-        uint64_t h = veach::fnv1a_64(std::string(path));
-        std::ifstream f(path, std::ios::binary);
-        std::vector<char> buffer(1 << 16);
-        while (f) {
-            f.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-            h = veach::fnv1a_64(buffer.data(), static_cast<size_t>(f.gcount()), h);
-        }
+        // The bytes of every file the import read, never the path: a checkpoint or part resumes
+        // or merges the same content reached through another folder or mount.
+        const uint64_t h = imported.content_hash;
         scene->m_source = path;
         finish_load(scene, std::move(imported), h);
     });
@@ -139,7 +149,7 @@ VeachError load_memory(VeachScene scene, const void* data, size_t size, const ch
         std::vector<uint8_t> copy(bytes, bytes + size);
         std::string base = base_dir ? base_dir : "";
         veach::Scene imported = veach::import_scene_from_memory(copy, format, base, scene->m_import);
-        uint64_t h = veach::fnv1a_64(copy.data(), copy.size(), veach::fnv1a_64(std::string(format) + "|" + base));
+        const uint64_t h = imported.content_hash;
         finish_load(scene, std::move(imported), h);
     });
 }

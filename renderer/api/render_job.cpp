@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/available_memory.h"
+#include "core/content_hash.h"
 #include "film/film_checkpoint.h"
 
 namespace veach {
@@ -81,6 +82,24 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     if (width > 65536 || height > 65536) throw std::invalid_argument("image size over 65536 pixels");
     if (options.render.spp < 1) throw std::invalid_argument("--spp must be at least 1");
     if (options.render.max_depth < 0) throw std::invalid_argument("--max-depth must not be negative");
+    const PartSettings& part = options.part;
+    const int sample_end = part.sample_end > 0 ? part.sample_end : options.render.spp;
+    if (part.sample_begin < 0 || part.sample_begin >= sample_end || sample_end > options.render.spp)
+        throw std::invalid_argument("--samples " + std::to_string(part.sample_begin) + ":" +
+                                    std::to_string(sample_end) + " is not within --spp " +
+                                    std::to_string(options.render.spp) + " (0 <= A < B <= spp)");
+    const bool sample_range = part.sample_begin > 0 || sample_end < options.render.spp;
+    if (sample_range && (options.render.noise_target != 0 || options.render.time_limit > 0))
+        throw std::invalid_argument("--samples cannot be combined with --noise or --time");
+    if (part.has_bounds && options.render.noise_target != 0)
+        throw std::invalid_argument("--pixelbounds cannot be combined with --noise");
+    if (part.has_bounds &&
+        (part.x0 < 0 || part.x0 >= part.x1 || part.x1 > width || part.y0 < 0 || part.y0 >= part.y1 || part.y1 > height))
+        throw std::invalid_argument("--pixelbounds " + std::to_string(part.x0) + "," + std::to_string(part.x1) + "," +
+                                    std::to_string(part.y0) + "," + std::to_string(part.y1) + " is not within the " +
+                                    std::to_string(width) + "x" + std::to_string(height) +
+                                    " image (0 <= X0 < X1 <= width, 0 <= Y0 < Y1 <= height)");
+    const Tile bounds = part.has_bounds ? Tile{part.x0, part.y0, part.x1, part.y1} : Tile{0, 0, width, height};
     RenderResult result;
     // Every integrator tracks the media of KHR_materials_volume (pt, bdpt and lt alike).
     RenderSettings chosen = options.render;
@@ -94,14 +113,22 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     auto t0 = clock::now();
     RenderScene rs(scene, camera, width, height);
     auto t1 = clock::now();
-    Film film(width, height, options.film);
+    auto film_ptr = std::make_shared<Film>(width, height, options.film);
+    Film& film = *film_ptr;
     RenderSettings settings = chosen;
+    settings.spp = sample_end;
     RenderControl session = control;
+    session.first_sample = part.sample_begin;
+    session.sample_origin = part.sample_begin;
+    session.bounds = bounds;
     const CheckpointSettings& cp = options.checkpoint;
-    const uint64_t hash = render_settings_hash(options, result.camera_name, width, height);
+    const uint64_t identity = render_settings_hash(options, result.camera_name, width, height);
+    const uint64_t hash = checkpoint_key(options, result.camera_name, width, height);
     std::error_code ec;
     if (cp.resume && !cp.path.empty() && std::filesystem::exists(cp.path, ec)) {
         result.resumed_spp = read_film_checkpoint(cp.path, film, hash);
+        if (result.resumed_spp < part.sample_begin)
+            throw CheckpointError(cp.path + ": corrupt checkpoint (fewer samples than the part starts at)");
         // The film cannot drop samples: a checkpoint past the requested spp is the image.
         settings.spp = std::max(settings.spp, result.resumed_spp);
         session.first_sample = result.resumed_spp;
@@ -119,24 +146,67 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     }
     result.stats = render_image(rs, *integrator, settings, film, session);
     auto t2 = clock::now();
-    // Each pixel sample traced one light path (bdpt, lt): splats average over spp.
-    result.image = film.resolve(result.stats.spp_done);
     result.build_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.render_seconds = std::chrono::duration<double>(t2 - t1).count();
+    PartInfo& info = result.part;
+    info.identity = identity;
+    info.width = width;
+    info.height = height;
+    info.aovs = options.film.aovs;
+    info.sample_begin = part.sample_begin;
+    info.sample_end = result.stats.spp_done;
+    info.spp = options.render.spp;
+    info.x0 = bounds.x0, info.x1 = bounds.x1, info.y0 = bounds.y0, info.y1 = bounds.y1;
+    info.frame = options.frame;
+    info.seed = options.render.seed;
+    info.camera = result.camera_name;
+    info.integrator = result.integrator;
+    info.filter = options.film.filter;
+    info.render_seconds = result.render_seconds;
+    // Each camera sample traced one light path (bdpt, lt), an estimate of the whole light image:
+    // splats average over the paths per pixel of the frame, which for the whole render is spp.
+    const double samples = static_cast<double>(result.stats.spp_done - part.sample_begin);
+    const double splat_spp = part.whole()
+                                 ? result.stats.spp_done
+                                 : samples * static_cast<double>(info.area()) / (static_cast<double>(width) * height);
+    result.image = film.resolve(splat_spp);
+    result.film = std::move(film_ptr);
     return result;
 }
 
 uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {
     const RenderSettings& r = options.render;
-    std::string key = "veach-checkpoint-v1|" + std::to_string(width) + "x" + std::to_string(height) +
-                      "|camera=" + camera_name + "|seed=" + std::to_string(r.seed) + "|integrator=" + r.integrator +
-                      "|max_depth=" + std::to_string(r.max_depth) + "|strategy=" + std::to_string(r.bdpt_s) + "," +
-                      std::to_string(r.bdpt_t) + "|filter=" + filter_name(options.film.filter.type) + ":" +
-                      std::to_string(options.film.filter.width) + "|aovs=" + (options.film.aovs ? "1" : "0") +
-                      "|scene=" + std::to_string(options.checkpoint.scene_hash) +
-                      "|sampler=" + std::to_string(static_cast<int>(r.sampler)) +
-                      "|noise=" + std::to_string(r.noise_target) + "," + std::to_string(r.min_spp);
-    return fnv1a_64(key);
+    return HashKey("veach-render-v2")
+        .field("width", width)
+        .field("height", height)
+        .field("camera", camera_name)
+        .field("seed", r.seed)
+        .field("integrator", r.integrator)
+        .field("max_depth", r.max_depth)
+        .field("bdpt_s", r.bdpt_s)
+        .field("bdpt_t", r.bdpt_t)
+        .field("filter", filter_name(options.film.filter.type))
+        .field("filter_width", options.film.filter.width)
+        .field("aovs", options.film.aovs)
+        .field("scene", options.checkpoint.scene_hash)
+        .field("sampler", static_cast<int>(r.sampler))
+        .field("noise", r.noise_target)
+        .field("min_spp", r.min_spp)
+        .value();
+}
+
+uint64_t checkpoint_key(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {
+    // A checkpoint holds one piece of the render: its sample start and pixels are part of its key.
+    const PartSettings& part = options.part;
+    const Tile b = part.has_bounds ? Tile{part.x0, part.y0, part.x1, part.y1} : Tile{0, 0, width, height};
+    return HashKey("veach-checkpoint-v2")
+        .field("identity", render_settings_hash(options, camera_name, width, height))
+        .field("sample_begin", part.sample_begin)
+        .field("x0", b.x0)
+        .field("x1", b.x1)
+        .field("y0", b.y0)
+        .field("y1", b.y1)
+        .value();
 }
 
 size_t peak_resident_bytes() {

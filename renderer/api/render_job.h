@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "film/film.h"
+#include "film/film_part.h"
 #include "integrators/integrator.h"
 #include "scene/scene.h"
 
@@ -21,6 +22,16 @@ struct CheckpointSettings {
     uint64_t scene_hash = 0;      // identifies the scene's content (e.g. a hash of the input file)
 };
 
+// A piece of a render for a farm (film/film_part.h): sample indices [sample_begin, sample_end)
+// of the pixels in the bounds, so that pieces rendered anywhere merge into the whole render.
+struct PartSettings {
+    int sample_begin = 0;
+    int sample_end = 0;       // 0: spp
+    bool has_bounds = false;  // false: the whole frame
+    int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    bool whole() const { return sample_begin == 0 && sample_end == 0 && !has_bounds; }
+};
+
 struct RenderJobOptions {
     std::string camera;  // a camera name or index; empty = the scene's first camera
     int width = 0;       // 0 = 1920
@@ -28,6 +39,8 @@ struct RenderJobOptions {
     RenderSettings render;
     FilmSettings film;  // pixel filter and AOV passes
     CheckpointSettings checkpoint;
+    PartSettings part;
+    double frame = 0;  // the animation frame, for part files' identity
 };
 
 struct RenderResult {
@@ -40,15 +53,21 @@ struct RenderResult {
     int resumed_spp = 0;                // samples per pixel loaded from a checkpoint
     std::string integrator;             // the integrator that rendered (see render_scene)
     std::vector<std::string> warnings;  // said once each, for the front end to print
+    std::shared_ptr<const Film> film;   // the sums behind `image` (what a part file holds)
+    PartInfo part;                      // the piece of the render this is (the whole by default)
 };
 
 // Throws std::invalid_argument with a one-line message when `spec` names no camera.
 const Camera* select_camera(const Scene& scene, const std::string& spec);
 
 // A hash of every setting that shapes the image (size, camera, seed, integrator, depth, filter,
-// passes, sampler, adaptive noise target, scene) but not of spp, time limit or threads: a
-// checkpoint resumes under any of those.
+// passes, sampler, adaptive noise target, the scene's content and options; numbers exactly) but
+// not of spp, time limit, threads or the part of the render: a checkpoint resumes under any of
+// those, and parts of one render share it (their identity).
 uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height);
+
+// The key a checkpoint of this render (and of its part: sample start, pixel bounds) carries.
+uint64_t checkpoint_key(const RenderJobOptions& options, const std::string& camera_name, int width, int height);
 
 // Renders; throws std::invalid_argument for bad settings, CheckpointError (film/film_checkpoint.h)
 // for a checkpoint that cannot be read or written.

@@ -221,4 +221,55 @@ void Film::load_state(const double* in, size_t count) {
     m_has_splats.store(any, std::memory_order_relaxed);
 }
 
+void Film::save_pixels(int x0, int y0, int x1, int y1, std::vector<double>* pixels, std::vector<double>* aovs) const {
+    pixels->clear();
+    aovs->clear();
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            const size_t i = static_cast<size_t>(y) * m_width + x;
+            const Pixel& p = m_pixels[i];
+            pixels->insert(pixels->end(),
+                           {p.sum[0], p.sum[1], p.sum[2], p.sum_sq[0], p.sum_sq[1], p.sum_sq[2], p.weight});
+            if (m_aovs.empty()) continue;
+            const AovSums& a = m_aovs[i];
+            aovs->insert(aovs->end(), {a.normal[0], a.normal[1], a.normal[2], a.albedo[0], a.albedo[1], a.albedo[2],
+                                       a.depth, a.count});
+        }
+    }
+}
+
+void Film::add_pixels(int x0, int y0, int x1, int y1, const double* pixels, const double* aovs) {
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            const size_t i = static_cast<size_t>(y) * m_width + x;
+            Pixel& p = m_pixels[i];
+            for (int c = 0; c < 3; ++c) p.sum[c] += *pixels++;
+            for (int c = 0; c < 3; ++c) p.sum_sq[c] += *pixels++;
+            p.weight += *pixels++;
+            if (m_aovs.empty() || !aovs) continue;
+            AovSums& a = m_aovs[i];
+            for (int c = 0; c < 3; ++c) a.normal[c] += *aovs++;
+            for (int c = 0; c < 3; ++c) a.albedo[c] += *aovs++;
+            const double depth = *aovs++, count = *aovs++;
+            if (a.count == 0.0 && count > 0.0) a.depth = depth;  // the earliest sample's
+            a.count += count;
+        }
+    }
+}
+
+void Film::save_splats(std::vector<double>* splats) const {
+    splats->resize(m_pixels.size() * 3);
+    for (size_t i = 0; i < splats->size(); ++i) (*splats)[i] = m_splats[i].load(std::memory_order_relaxed);
+}
+
+void Film::add_splats(const double* splats) {
+    bool any = false;
+    for (size_t i = 0; i < m_pixels.size() * 3; ++i) {
+        const double v = m_splats[i].load(std::memory_order_relaxed) + splats[i];
+        m_splats[i].store(v, std::memory_order_relaxed);
+        any = any || v != 0.0;
+    }
+    if (any) m_has_splats.store(true, std::memory_order_relaxed);
+}
+
 }  // namespace veach

@@ -130,6 +130,18 @@ public:
     void save_state(double* out) const;
     void load_state(const double* in, size_t count);
 
+    // Part files (film/film_part.h): the camera-sample sums of the pixels in [x0, x1) x [y0, y1)
+    // (per pixel: sums, sums of squares, sample count), their AOV sums when recorded (per pixel:
+    // normal, albedo, depth, count), and every splat (3 per pixel of the whole film). The add_*
+    // functions add another part's sums to these, exactly as a longer render would have
+    // accumulated them: a pixel's depth stays its first sample's, so parts must be added in the
+    // order of their sample ranges. Only while no thread renders.
+    static constexpr size_t k_part_pixel_doubles = 7, k_part_aov_doubles = 8;
+    void save_pixels(int x0, int y0, int x1, int y1, std::vector<double>* pixels, std::vector<double>* aovs) const;
+    void add_pixels(int x0, int y0, int x1, int y1, const double* pixels, const double* aovs);
+    void save_splats(std::vector<double>* splats) const;
+    void add_splats(const double* splats);
+
 private:
     using Pixel = PixelSums;
     struct AovSums {

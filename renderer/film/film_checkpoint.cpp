@@ -1,6 +1,9 @@
 #include "film/film_checkpoint.h"
 
+#include <zlib.h>
+
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -13,8 +16,10 @@ namespace veach {
 namespace {
 
 // Layout (native byte order, doubles as IEEE 754): magic, then the header fields, then
-// Film::state_size() doubles, then the end marker that proves the write completed.
-constexpr char k_magic[8] = {'V', 'E', 'A', 'C', 'H', 'C', 'K', '1'};
+// Film::state_size() doubles, then a CRC-32 of everything before it (a flipped or overwritten
+// byte is refused, not rendered into an image tagged complete), then the end marker that proves
+// the write completed.
+constexpr char k_magic[8] = {'V', 'E', 'A', 'C', 'H', 'C', 'K', '2'};
 constexpr char k_end[8] = {'V', 'E', 'A', 'C', 'H', 'E', 'N', 'D'};
 
 struct Header {
@@ -35,16 +40,31 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
     throw CheckpointError(path + ": " + reason);
 }
 
-}  // namespace
+bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
 
-uint64_t fnv1a_64(const void* data, size_t size, uint64_t hash) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) {
-        hash ^= bytes[i];
-        hash *= 0x100000001b3ull;
+// What a checkpoint written at a pass boundary must hold, beyond a matching CRC (which a file
+// made to look like one could still carry): finite sums, and per-pixel sample counts that are
+// whole numbers no larger than the samples per pixel it claims.
+void check_state(const std::string& path, const Film& film, const std::vector<double>& state, int spp_done) {
+    const size_t n = static_cast<size_t>(film.width()) * film.height();
+    for (double v : state)
+        if (!std::isfinite(v)) fail(path, "corrupt checkpoint (non-finite values)");
+    const double* p = state.data();
+    for (size_t i = 0; i < n; ++i, p += 7)
+        if (!whole_in(p[6], 0, spp_done)) fail(path, "corrupt checkpoint (sample counts beyond its spp)");
+    if (film.wants_aovs())
+        for (size_t i = 0; i < n; ++i, p += 8)
+            if (!whole_in(p[7], 0, spp_done)) fail(path, "corrupt checkpoint (pass sample counts beyond its spp)");
+    p += n * 3;  // splats: finite is all that can be said
+    if (state.size() == film.state_size(true)) {
+        // The sample plan: a target, a pilot that fits within spp_done, whole budgets.
+        if (!(p[0] > 0) || !whole_in(p[1], 2, spp_done)) fail(path, "corrupt checkpoint (adaptive sample plan)");
+        for (size_t i = 0; i < n; ++i)
+            if (!whole_in(p[2 + i], 0, 4294967295.0)) fail(path, "corrupt checkpoint (adaptive sample plan)");
     }
-    return hash;
 }
+
+}  // namespace
 
 void write_film_checkpoint(const std::string& path, const Film& film, uint64_t settings_hash, int spp_done) {
     Header h{};
@@ -62,6 +82,10 @@ void write_film_checkpoint(const std::string& path, const Film& film, uint64_t s
         AtomicFile file(path);
         file.write(&h, sizeof(h));
         file.write(state.data(), state.size() * sizeof(double));
+        uLong crc = crc32_z(crc32_z(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(&h), sizeof(h));
+        crc = crc32_z(crc, reinterpret_cast<const Bytef*>(state.data()), state.size() * sizeof(double));
+        const uint32_t crc32 = static_cast<uint32_t>(crc);
+        file.write(&crc32, sizeof(crc32));
         file.write(k_end, sizeof(k_end));
         file.commit();
     } catch (const OutputError& e) {
@@ -85,10 +109,15 @@ int read_film_checkpoint(const std::string& path, Film& film, uint64_t settings_
     if (h.spp_done < 0) fail(path, "corrupt checkpoint (negative spp)");
     std::vector<double> state(h.state_doubles);
     char end[8] = {};
+    uint32_t stored_crc = 0;
     if (std::fread(state.data(), sizeof(double), state.size(), f.get()) != state.size() ||
-        std::fread(end, sizeof(end), 1, f.get()) != 1 || std::memcmp(end, k_end, sizeof(k_end)) != 0 ||
-        std::fgetc(f.get()) != EOF)
+        std::fread(&stored_crc, sizeof(stored_crc), 1, f.get()) != 1 || std::fread(end, sizeof(end), 1, f.get()) != 1 ||
+        std::memcmp(end, k_end, sizeof(k_end)) != 0 || std::fgetc(f.get()) != EOF)
         fail(path, "truncated or corrupt checkpoint");
+    uLong crc = crc32_z(crc32_z(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(&h), sizeof(h));
+    crc = crc32_z(crc, reinterpret_cast<const Bytef*>(state.data()), state.size() * sizeof(double));
+    if (static_cast<uint32_t>(crc) != stored_crc) fail(path, "corrupt checkpoint (CRC mismatch)");
+    check_state(path, film, state, h.spp_done);
     film.load_state(state.data(), state.size());
     return h.spp_done;
 }

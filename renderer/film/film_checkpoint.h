@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/content_hash.h"
 #include "film/film.h"
 
 namespace veach {
@@ -31,12 +32,5 @@ void write_film_checkpoint(const std::string& path, const Film& film, uint64_t s
 // returns its spp. Throws CheckpointError with a one-line message naming the file and the fault
 // (unreadable, truncated, not a checkpoint, made with other settings).
 int read_film_checkpoint(const std::string& path, Film& film, uint64_t settings_hash);
-
-// FNV-1a, 64 bits: a stable hash of settings text and file contents (not cryptographic: it only
-// has to tell a checkpoint of another render from ours).
-uint64_t fnv1a_64(const void* data, size_t size, uint64_t hash = 0xcbf29ce484222325ull);
-inline uint64_t fnv1a_64(const std::string& s, uint64_t hash = 0xcbf29ce484222325ull) {
-    return fnv1a_64(s.data(), s.size(), hash);
-}
 
 }  // namespace veach

@@ -94,12 +94,26 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
     // neighbours makes up for a noisy one), few enough to leave time to spend where the noise is.
     // Fixed rather than grown with spp: with a time limit spp is only a cap.
     const int pilot_spp = std::max(2, settings.min_spp > 0 ? settings.min_spp : 16);
-    const uint64_t pixels = static_cast<uint64_t>(film.width()) * film.height();
+    // The pixels to render: the whole film, or a part's rectangle (whose tiles start at its corner).
+    Tile area = control.bounds;
+    if (area.x1 <= area.x0 || area.y1 <= area.y0) area = Tile{0, 0, film.width(), film.height()};
+    if (area.x0 < 0 || area.y0 < 0 || area.x1 > film.width() || area.y1 > film.height())
+        throw std::invalid_argument("pixel bounds outside the film");
+    if ((area.x0 != 0 || area.y0 != 0 || area.x1 != film.width() || area.y1 != film.height()) &&
+        settings.noise_target > 0)
+        throw std::invalid_argument("adaptive sampling renders the whole film");
+    const uint64_t pixels = static_cast<uint64_t>(area.x1 - area.x0) * (area.y1 - area.y0);
 
     std::vector<Tile> tiles;
-    for (int y = 0; y < film.height(); y += k_tile_size)
-        for (int x = 0; x < film.width(); x += k_tile_size)
-            tiles.push_back({x, y, std::min(x + k_tile_size, film.width()), std::min(y + k_tile_size, film.height())});
+    for (int y = area.y0; y < area.y1; y += k_tile_size)
+        for (int x = area.x0; x < area.x1; x += k_tile_size)
+            tiles.push_back({x, y, std::min(x + k_tile_size, area.x1), std::min(y + k_tile_size, area.y1)});
+    // Camera samples taken once every pixel reaches sample index s, counted from the origin.
+    const int origin = std::clamp(control.sample_origin, 0, settings.spp);
+    auto samples_at = [&](int s) -> uint64_t {
+        if (film.has_sample_plan()) return film.planned_total(static_cast<uint64_t>(s));
+        return static_cast<uint64_t>(std::max(0, s - origin)) * pixels;
+    };
 
     int threads = settings.threads > 0 ? settings.threads : tbb::task_arena::automatic;
     tbb::task_arena arena(threads);
@@ -174,8 +188,8 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
         update_plan();
         if (control.pass_done) control.pass_done(done);
         if (control.progress) {
-            const double total = static_cast<double>(film.planned_total(settings.spp));
-            const double taken = static_cast<double>(film.planned_total(done));
+            const double total = static_cast<double>(samples_at(settings.spp));
+            const double taken = static_cast<double>(samples_at(done));
             double fraction = total > 0 ? taken / total : 1.0;
             double eta = seconds_per_sample * (total - taken);
             if (settings.time_limit > 0) {
@@ -189,7 +203,7 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
     stats.cancelled = cancelled();
     stats.rays = rays.load();
     stats.nonfinite_samples = nonfinite.load();
-    stats.camera_samples = film.planned_total(static_cast<uint64_t>(done));
+    stats.camera_samples = samples_at(done);
     stats.mean_spp = pixels > 0 ? static_cast<double>(stats.camera_samples) / static_cast<double>(pixels) : 0.0;
     stats.seconds = elapsed();
     return stats;

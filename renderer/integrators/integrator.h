@@ -33,6 +33,10 @@ struct RenderSettings {
     int min_spp = 0;  // samples of the pilot; 0 = automatic (16)
 };
 
+struct Tile {
+    int x0, y0, x1, y1;
+};
+
 struct RenderControl {
     // Called on the calling thread after each pass: fraction done in [0, 1], seconds left.
     std::function<void(double fraction, double eta_seconds)> progress;
@@ -45,6 +49,10 @@ struct RenderControl {
     // consistent: every pixel holds exactly `spp_done` samples, or its adaptive budget if
     // smaller): the moment to checkpoint.
     std::function<void(int spp_done)> pass_done;
+    // A part of a render (film/film_part.h): the sample index it starts at (progress and camera
+    // sample counts start there), and the pixels to render; an empty rectangle: the whole film.
+    int sample_origin = 0;
+    Tile bounds{0, 0, 0, 0};
 };
 
 struct RenderStats {
@@ -61,10 +69,6 @@ struct RenderStats {
 struct ThreadStats {
     uint64_t rays = 0;
     uint64_t nonfinite = 0;
-};
-
-struct Tile {
-    int x0, y0, x1, y1;
 };
 
 class Integrator {

@@ -192,6 +192,10 @@ struct RepairCounts {
 
 struct Scene {
     std::string source_path;
+    // Identifies what the import read, by content and never by path: FNV-1a over the bytes of the
+    // scene file, then of each buffer and image file in the order they were read. A scene moved
+    // or reached through another mount has the same hash; an edited texture or buffer does not.
+    uint64_t content_hash = 0;
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
     std::vector<Material> materials;

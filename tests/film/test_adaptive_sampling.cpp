@@ -263,7 +263,7 @@ TEST(AdaptiveRender, ResumesExactlyAndRefusesAnotherTarget) {
     EXPECT_ANY_THROW(render_scene(s, o));
     RenderScene rs(s, &s.cameras[0], 16, 16);
     Film film(16, 16);
-    ASSERT_EQ(read_film_checkpoint(path.string(), film, render_settings_hash(fresh, "test", 16, 16)), 24);
+    ASSERT_EQ(read_film_checkpoint(path.string(), film, checkpoint_key(fresh, "test", 16, 16)), 24);
     ASSERT_TRUE(film.has_sample_plan());
     for (float target : {0.2f, 0.0f}) {
         RenderSettings settings = fresh.render;

@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
+#include "api/render_job.h"
 #include "core/rng.h"
 #include "film/film_checkpoint.h"
 
@@ -151,6 +154,53 @@ TEST(FilmCheckpoint, RefusesAnotherRenderAndDamagedFiles) {
     EXPECT_FALSE(error_of([&] { read_film_checkpoint(path.string(), same, 42); }).empty());
     // An unwritable place is a write error (a different failure from a bad checkpoint).
     EXPECT_THROW(write_film_checkpoint("/nonexistent-folder/x.checkpoint", film, 1, 1), CheckpointWriteError);
+}
+
+// A checkpoint is only what was written: a flipped byte anywhere (the CRC), NaN sums, or
+// counts beyond the spp it claims are refused, never rendered into an image tagged complete.
+TEST(FilmCheckpoint, RefusesCorruptContent) {
+    Film film(5, 4);
+    fill(film, 5);
+    const fs::path path = temp_file("corrupt");
+    write_film_checkpoint(path.string(), film, 42, 3);
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    auto refused = [&](const std::string& content) {
+        { std::ofstream(path, std::ios::binary) << content; }
+        Film back(5, 4);
+        return error_of([&] { read_film_checkpoint(path.string(), back, 42); });
+    };
+    EXPECT_TRUE(refused(bytes).empty());
+    std::string flipped = bytes;
+    flipped[flipped.size() / 2] ^= 0x20;
+    EXPECT_NE(refused(flipped).find("CRC"), std::string::npos);
+    // The right length of NaN bytes: not a checkpoint at all.
+    EXPECT_FALSE(refused(std::string(bytes.size(), '\xff')).empty());
+    // Fewer samples claimed than the pixels hold: a consistent CRC does not make it valid.
+    Film counted(5, 4);
+    fill(counted, 5);
+    write_film_checkpoint(path.string(), counted, 42, 2);
+    Film back(5, 4);
+    EXPECT_NE(error_of([&] { read_film_checkpoint(path.string(), back, 42); }).find("beyond its spp"),
+              std::string::npos);
+    fs::remove(path);
+}
+
+// Every image-shaping number is hashed by its exact bits: a tiny noise target or a filter width
+// one ulp away is another render.
+TEST(FilmCheckpoint, SettingsHashIsExactForNumbers) {
+    RenderJobOptions a;
+    const uint64_t base = render_settings_hash(a, "cam", 16, 16);
+    RenderJobOptions b = a;
+    b.render.noise_target = 1e-7f;
+    EXPECT_NE(render_settings_hash(b, "cam", 16, 16), base);
+    RenderJobOptions c = a;
+    c.film.filter.width = std::nextafter(1.0f, 2.0f);
+    EXPECT_NE(render_settings_hash(c, "cam", 16, 16), base);
+    EXPECT_EQ(render_settings_hash(a, "cam", 16, 16), base);
 }
 
 }  // namespace

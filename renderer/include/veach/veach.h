@@ -31,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 3
+#define VEACH_VERSION_MINOR 4
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -171,7 +171,9 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           half (EXR half floats: 0 or 1), aovs (1: record the depth, normal and albedo passes),
  *           bdpt_s, bdpt_t (bdpt: render only the strategy with s light and t camera vertices,
  *           unweighted, for verification; -1 = all), resume (0 or 1: start from the checkpoint
- *           file when it exists)
+ *           file when it exists), sample_begin, sample_end (since 0.4: render only sample
+ *           indices [sample_begin, sample_end) of the spp; 0 <= begin < end <= spp, end 0 = spp;
+ *           not with noise or time_limit)
  *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1; Blender's default is
  *           1.5 for its smooth filters), exposure (stops), gamma,
  *           noise (adaptive sampling: a pixel stops once its estimated relative error is below
@@ -187,7 +189,9 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           Blender's names; depth, normal and albedo turn aovs on), checkpoint (a file holding
  *           the film's state between passes, so that a killed render resumes to the same image;
  *           a checkpoint of another render or scene is refused with VEACH_ERROR_BAD_INPUT; not
- *           deleted by the library: remove it once the image is safe)
+ *           deleted by the library: remove it once the image is safe), pixelbounds (since 0.4:
+ *           "X0,X1,Y0,Y1" renders only pixels [X0,X1) x [Y0,Y1) of the frame, pbrt's order;
+ *           "" = the whole frame; not with noise; light-tracing splats still land anywhere)
  * Results, read-only, through the getters: int result_width, result_height, result_spp (samples
  *   every pixel completed), result_resumed_spp (from the checkpoint), result_complete (1 unless
  *   cancelled before the requested samples), result_camera_samples, result_rays,
@@ -235,8 +239,27 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
  * through the OpenColorIO view (display, view, look, exposure, gamma), with the bits, quality,
  * half and exr_codec options. Metadata: Software, veach:scene, veach:camera, veach:spp,
  * veach:spp_requested, veach:complete, veach:seed, veach:integrator, veach:filter,
- * veach:render_seconds (and veach:resumed_spp). Atomic: never a half-written file. */
+ * veach:render_seconds (and veach:resumed_spp; for a part, veach:samples "A:B" and
+ * veach:pixelbounds). Atomic: never a half-written file.
+ * A path ending in .vpart (since 0.4) writes a part file instead: the film's exact double sums for
+ * the render's sample range and pixel bounds, its light-tracing splats over the whole frame, and
+ * the render's identity (a hash of every image-shaping setting and of the content, never the
+ * path, of every file the scene read), zlib-compressed with a CRC. */
 VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
+
+/* ---- Part files: renders split across machines (since 0.4) -------------------------------- */
+
+/* Sums part files (.vpart) into a render that holds the merged result, to be written with
+ * veachWriteImage in any format (or as one .vpart when the parts form one sample range over one
+ * rectangle) and read with veachGetPass / veachGetInt("result_spp"). It cannot be rendered.
+ * Merging is exact: the double sums add in sample order, so path-traced parts give the single
+ * render's image bit for bit, and light-tracing splats agree to summation order. expect_spp > 0
+ * requires the parts to cover sample indices [0, expect_spp) of every pixel exactly (0: any
+ * cover). NULL on failure, with VEACH_ERROR_BAD_INPUT and one line naming the files for parts
+ * of different renders, parts overlapping in samples and pixels, gaps (with expect_spp) and
+ * unreadable or corrupt parts. */
+VEACH_API VeachRender veachNewRenderFromParts(VeachDevice device, const char* const* paths, size_t count,
+                                             long long expect_spp);
 
 #ifdef __cplusplus
 }

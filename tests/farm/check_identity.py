@@ -1,0 +1,149 @@
+#!/usr/bin/python3
+"""Checkpoint and part identity is the content of every input file, never a path; corrupt
+checkpoints are refused.
+
+What must hold:
+- The same scene (a .gltf with a .bin and a PNG texture) copied to another folder: a checkpoint
+  made through one path resumes through the other (veach:resumed_spp in the image), and parts
+  rendered from the two copies merge.
+- An edited texture or buffer (one byte) is another render: the checkpoint is refused and the
+  parts do not merge (exit 2, one line).
+- A checkpoint of the right length made of NaN bytes, or a real one with one flipped byte, is
+  refused with exit 2 and one line, and no image is written.
+Exit 0 pass, 1 fail.
+"""
+import argparse
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+try:
+    import OpenImageIO as oiio
+except ImportError as e:  # pragma: no cover
+    sys.exit(f"FAIL: {e} (scripts/install-deps.sh installs python3-openimageio)")
+
+FAILURES = []
+FLAGS = ["--width", "48", "--height", "48", "--integrator", "pt", "--threads", "1"]
+
+
+def check(condition, message):
+    if not condition:
+        FAILURES.append(message)
+        print(f"FAIL: {message}")
+    return condition
+
+
+def run(veach, *args):
+    return subprocess.run([veach, *args], capture_output=True, text=True, timeout=120)
+
+
+def one_line_exit2(r, what):
+    lines = r.stderr.strip().splitlines()
+    check(r.returncode == 2, f"{what}: exit {r.returncode}, expected 2 ({r.stderr.strip()})")
+    check(len(lines) == 1, f"{what}: expected one line, got {lines}")
+
+
+def make_checkpoint(veach, scene, out):
+    """Starts a long render with a checkpoint every pass and stops it (SIGTERM) once one exists."""
+    checkpoint = out + ".checkpoint"
+    p = subprocess.Popen([veach, "render", scene, "-o", out, *FLAGS, "--spp", "100000", "--checkpoint", "0", "-q"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    end = time.time() + 60
+    while time.time() < end and not os.path.exists(checkpoint) and p.poll() is None:
+        time.sleep(0.02)
+    p.send_signal(signal.SIGTERM)
+    p.communicate(timeout=60)
+    if not os.path.exists(checkpoint):
+        raise RuntimeError(f"no checkpoint appeared at {checkpoint}")
+    if os.path.exists(out):
+        os.remove(out)
+    return checkpoint
+
+
+def resumed_spp(path):
+    spec = oiio.ImageBuf(path).spec()
+    return spec.get_string_attribute("veach:resumed_spp")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--veach", required=True)
+    ap.add_argument("--scene-dir", required=True, help="a scene folder with NAME.gltf, NAME.bin and a PNG")
+    ap.add_argument("--name", required=True)
+    args = ap.parse_args()
+    veach = args.veach
+    with tempfile.TemporaryDirectory() as tmp:
+        copies = {}
+        for c in ("a", "b", "edited_bin", "edited_png"):
+            copies[c] = os.path.join(tmp, c)
+            shutil.copytree(args.scene_dir, copies[c], ignore=shutil.ignore_patterns("*.blend", "*.exr", "*.json"))
+        pngs = [f for f in os.listdir(copies["a"]) if f.endswith(".png")]
+        if not check(pngs, "the scene folder has no PNG texture"):
+            return 1
+        # One byte of the vertex data; one byte of the texture's pixels (re-encoded PNG, same size).
+        binary = os.path.join(copies["edited_bin"], args.name + ".bin")
+        data = bytearray(open(binary, "rb").read())
+        data[len(data) // 3] ^= 0x01
+        open(binary, "wb").write(bytes(data))
+        texture = os.path.join(copies["edited_png"], pngs[0])
+        source = oiio.ImageBuf(texture)
+        pixels = source.get_pixels(oiio.UINT8)
+        pixels[0, 0, 0] ^= 0x10
+        spec = oiio.ImageSpec(source.spec().width, source.spec().height, source.spec().nchannels, oiio.UINT8)
+        del source
+        png = oiio.ImageOutput.create(texture)
+        check(png and png.open(texture, spec) and png.write_image(pixels), f"cannot rewrite {texture}")
+        png.close()
+
+        scene = {c: os.path.join(d, args.name + ".gltf") for c, d in copies.items()}
+        out = os.path.join(tmp, "out.exr")
+
+        # Another path, same content: resumes.
+        make_checkpoint(veach, scene["a"], out)
+        r = run(veach, "render", scene["b"], "-o", out, *FLAGS, "--spp", "64", "--resume", "-q")
+        if check(r.returncode == 0, f"resume through another path: exit {r.returncode} ({r.stderr.strip()})"):
+            check(resumed_spp(out) not in ("", "0"), "resume through another path did not resume")
+        # Edited buffer or texture: refused.
+        for c in ("edited_bin", "edited_png"):
+            make_checkpoint(veach, scene["a"], out)
+            r = run(veach, "render", scene[c], "-o", out, *FLAGS, "--spp", "64", "--resume", "-q")
+            one_line_exit2(r, f"resume with an {c.replace('_', ' ')}")
+            check(not os.path.exists(out), f"resume with an {c}: an image was written")
+            os.remove(out + ".checkpoint")
+
+        # Corrupt checkpoints.
+        checkpoint = make_checkpoint(veach, scene["a"], out)
+        good = open(checkpoint, "rb").read()
+        flipped = bytearray(good)
+        flipped[len(flipped) // 2] ^= 0x08
+        nan = bytes([0xFF, 0xF8, 0, 0, 0, 0, 0, 0][::-1]) * (len(good) // 8) + b"\0" * (len(good) % 8)
+        for what, content in (("a flipped byte", bytes(flipped)), ("NaN bytes", nan),
+                              ("NaN bytes after a real header", good[:48] + nan[48:])):
+            open(checkpoint, "wb").write(content)
+            r = run(veach, "render", scene["a"], "-o", out, *FLAGS, "--spp", "64", "--resume", "-q")
+            one_line_exit2(r, f"checkpoint with {what}")
+            check(not os.path.exists(out), f"checkpoint with {what}: an image was written")
+
+        # Parts: through two paths they merge; from an edited texture they do not.
+        parts = {}
+        for c, samples in (("a", "0:8"), ("b", "8:16"), ("edited_png", "8:16")):
+            parts[c] = os.path.join(tmp, f"{c}.vpart")
+            r = run(veach, "render", scene[c], "-o", parts[c], *FLAGS, "--spp", "16", "--samples", samples, "-q")
+            check(r.returncode == 0, f"part from {c}: exit {r.returncode} ({r.stderr.strip()})")
+        r = run(veach, "merge", parts["a"], parts["b"], "-o", os.path.join(tmp, "m.exr"), "--expect-spp", "16")
+        check(r.returncode == 0, f"parts through two paths: merge exit {r.returncode} ({r.stderr.strip()})")
+        r = run(veach, "merge", parts["a"], parts["edited_png"], "-o", os.path.join(tmp, "m2.exr"))
+        one_line_exit2(r, "parts of an edited texture")
+    if FAILURES:
+        print(f"{len(FAILURES)} failure(s)")
+        return 1
+    print("identity: all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
