@@ -19,6 +19,7 @@ packages=(
            # glTF exporter (which needs python3-numpy, above)
   assimp-testmodels
   fonts-dejavu-core  # the titles of `make gallery`'s contact sheet
+  slurm-wlm munge  # tests/farm/check_slurm_cluster.py starts a single-node cluster (as root)
   zlib1g-dev       # part files (.vpart) are zlib streams
 )
 if [[ "${1:-}" == "--bench" ]]; then

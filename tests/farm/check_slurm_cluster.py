@@ -1,0 +1,263 @@
+#!/usr/bin/python3
+"""Veach on a real single-node Slurm cluster, started here as root in a private folder.
+
+munged runs with its own key and socket, slurmctld and slurmd with a generated slurm.conf
+(localhost with this machine's CPUs and memory, proctrack/linuxproc, task/none, no accounting,
+MailProg=/bin/true; PID 1 is not systemd, so the daemons are started by hand, in the foreground,
+and the node name is given to slurmd). Then plugins/slurm/veach-slurm submits:
+- an array of 4 sample-range parts of cornell and a dependent merge: the merged image equals a
+  single render bit for bit with pt, and to relative 1e-6 with bdpt (splat summation order);
+- a 2x2 tile split (pt) likewise, bit for bit;
+- a render whose parts fail: the merge job ends CANCELLED (--kill-on-invalid-dep=yes), it is not
+  left PENDING.
+The daemons are stopped by their PIDs and every wait is bounded.
+Exit 0 pass, 1 fail (also when Slurm or munge is missing: scripts/install-deps.sh installs them).
+"""
+import argparse
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+try:
+    import numpy as np
+    import OpenImageIO as oiio
+except ImportError as e:  # pragma: no cover
+    sys.exit(f"FAIL: {e} (scripts/install-deps.sh installs python3-numpy and python3-openimageio)")
+
+FAILURES = []
+PROGRAMS = ["munged", "mungekey", "slurmctld", "slurmd", "sbatch", "scontrol", "sinfo"]
+
+
+def check(condition, message):
+    if not condition:
+        FAILURES.append(message)
+        print(f"FAIL: {message}")
+    return condition
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_for(predicate, timeout, what):
+    end = time.time() + timeout
+    while time.time() < end:
+        if predicate():
+            return True
+        time.sleep(0.25)
+    raise RuntimeError(f"timed out after {timeout}s waiting for {what}")
+
+
+def memory_mb():
+    with open("/proc/meminfo") as f:
+        for line in f:
+            if line.startswith("MemTotal:"):
+                return int(line.split()[1]) // 1024
+    return 1024
+
+
+class Cluster:
+    def __init__(self, root):
+        self.root = root
+        self.procs = []
+        self.env = dict(os.environ, SLURM_CONF=os.path.join(root, "slurm.conf"))
+
+    def start(self):
+        r = self.root
+        for d in ("munge", "state", "spool", "log"):
+            os.makedirs(os.path.join(r, d), mode=0o700, exist_ok=True)
+        key = os.path.join(r, "munge", "munge.key")
+        subprocess.run(["mungekey", "--create", "--keyfile", key], check=True, timeout=30)
+        os.chmod(key, 0o400)
+        self.munge_socket = os.path.join(r, "munge", "munge.socket")
+        self.spawn(["munged", "--foreground", "--force", f"--key-file={key}", f"--socket={self.munge_socket}",
+                    f"--pid-file={r}/munge/munged.pid", f"--log-file={r}/log/munged.log",
+                    f"--seed-file={r}/munge/munged.seed"], "munged")
+        wait_for(lambda: os.path.exists(self.munge_socket), 20, "munged's socket")
+        cpus = len(os.sched_getaffinity(0))
+        conf = f"""ClusterName=veachci
+SlurmctldHost=localhost(127.0.0.1)
+SlurmUser=root
+SlurmdUser=root
+AuthType=auth/munge
+AuthInfo=socket={self.munge_socket}
+CredType=cred/munge
+SlurmctldPort={free_port()}
+SlurmdPort={free_port()}
+StateSaveLocation={r}/state
+SlurmdSpoolDir={r}/spool
+SlurmctldPidFile={r}/slurmctld.pid
+SlurmdPidFile={r}/slurmd.pid
+SlurmctldLogFile={r}/log/slurmctld.log
+SlurmdLogFile={r}/log/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+JobCompType=jobcomp/none
+MailProg=/bin/true
+SchedulerType=sched/builtin
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+ReturnToService=2
+MinJobAge=600
+SlurmdTimeout=30
+InactiveLimit=0
+KillWait=5
+NodeName=localhost NodeAddr=127.0.0.1 CPUs={cpus} RealMemory={max(1, memory_mb() - 512)} State=UNKNOWN
+PartitionName=ci Nodes=localhost Default=YES MaxTime=INFINITE State=UP
+"""
+        with open(self.env["SLURM_CONF"], "w") as f:
+            f.write(conf)
+        self.spawn(["slurmctld", "-D", "-i", "-f", self.env["SLURM_CONF"]], "slurmctld")
+        self.spawn(["slurmd", "-D", "-N", "localhost", "-f", self.env["SLURM_CONF"]], "slurmd")
+        wait_for(lambda: self.node_state() in ("idle", "mixed", "allocated"), 60, "the node to be idle")
+
+    def spawn(self, argv, name):
+        log = open(os.path.join(self.root, "log", f"{name}.out"), "w")
+        self.procs.append((name, subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, env=self.env)))
+
+    def node_state(self):
+        for name, p in self.procs:
+            if p.poll() is not None:
+                raise RuntimeError(f"{name} exited with {p.returncode} (logs in {self.root}/log)")
+        r = subprocess.run(["sinfo", "-h", "-N", "-o", "%T"], capture_output=True, text=True, env=self.env, timeout=20)
+        return r.stdout.strip().rstrip("*~#")
+
+    def job_state(self, job):
+        r = subprocess.run(["scontrol", "show", "job", "-o", str(job)], capture_output=True, text=True, env=self.env,
+                           timeout=20)
+        states = [w.split("=", 1)[1] for line in r.stdout.splitlines() for w in line.split() if
+                  w.startswith("JobState=")]
+        return states
+
+    def wait_job(self, job, timeout):
+        """The final state of a job (of every task of an array): COMPLETED, FAILED, CANCELLED..."""
+        final = ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY", "BOOT_FAIL",
+                 "DEADLINE", "PREEMPTED")
+        end = time.time() + timeout
+        while time.time() < end:
+            states = self.job_state(job)
+            if states and all(s in final for s in states):
+                return states
+            time.sleep(0.5)
+        return self.job_state(job) + ["(timed out)"]
+
+    def stop(self):
+        for name, p in reversed(self.procs):
+            if p.poll() is None:
+                p.terminate()
+                try:
+                    p.wait(timeout=15)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+                    p.wait(timeout=5)
+
+
+def read(path):
+    buf = oiio.ImageBuf(path)
+    if buf.has_error:
+        raise RuntimeError(f"{path}: {buf.geterror()}")
+    return buf.get_pixels(oiio.FLOAT)
+
+
+def compare(single, merged, exact, what):
+    if not check(os.path.exists(merged), f"{what}: the merge wrote no {merged}"):
+        return
+    a, b = read(single), read(merged)
+    if exact:
+        check(np.array_equal(a, b), f"{what}: merged image differs from the single render")
+    else:
+        rel = np.where(a != b, np.abs(a - b) / np.maximum(np.abs(a), 1e-30), 0)
+        check(float(rel.max()) <= 1e-6, f"{what}: merged image differs by relative {float(rel.max()):.3g}")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--veach", required=True)
+    ap.add_argument("--scene", required=True)
+    ap.add_argument("--submit", required=True, help="plugins/slurm/veach-slurm")
+    args = ap.parse_args()
+    missing = [p for p in PROGRAMS if shutil.which(p) is None]
+    if missing:
+        print(f"FAIL: missing {', '.join(missing)} (scripts/install-deps.sh installs slurm-wlm and munge)")
+        return 1
+    if os.geteuid() != 0:
+        print("FAIL: the cluster test starts munged, slurmctld and slurmd and must run as root")
+        return 1
+    veach = os.path.abspath(args.veach)
+    size = ["--width", "48", "--height", "48"]
+    tmp = tempfile.mkdtemp(prefix="veach-slurm-")
+    os.chmod(tmp, 0o700)
+    cluster = Cluster(tmp)
+    try:
+        cluster.start()
+
+        def submit(out, *extra, render=()):
+            r = subprocess.run([args.submit, args.scene, "-o", out, "--veach", veach, *extra, "--", *render],
+                               capture_output=True, text=True, env=cluster.env, timeout=30)
+            if r.returncode != 0:
+                raise RuntimeError(f"veach-slurm: exit {r.returncode}: {r.stderr.strip()}")
+            return r.stdout.split()
+
+        jobs = {}
+        for integrator in ("pt", "bdpt"):
+            out = os.path.join(tmp, integrator, "merged.exr")
+            os.makedirs(os.path.dirname(out))
+            jobs[integrator] = (out, submit(out, "--spp", "16", "--chunks", "4", *size,
+                                            render=["--integrator", integrator, "-q"]))
+        tiles = os.path.join(tmp, "tiles", "merged.exr")
+        os.makedirs(os.path.dirname(tiles))
+        jobs["tiles"] = (tiles, submit(tiles, "--spp", "16", "--tiles", "2x2", *size, render=["--integrator", "pt", "-q"]))
+        broken = os.path.join(tmp, "broken", "merged.exr")
+        os.makedirs(os.path.dirname(broken))
+        broken_jobs = submit(broken, "--spp", "16", "--chunks", "2", *size, render=["--no-such-flag"])
+
+        # The single renders to compare with, here, while the cluster works.
+        singles = {}
+        for integrator in ("pt", "bdpt"):
+            singles[integrator] = os.path.join(tmp, f"single_{integrator}.exr")
+            subprocess.run([veach, "render", args.scene, "-o", singles[integrator], *size, "--spp", "16",
+                            "--integrator", integrator, "-q"], check=True, timeout=120)
+
+        for what, (out, ids) in jobs.items():
+            array, merge = ids[0], ids[1]
+            parts = cluster.wait_job(array, 90)
+            check(all(s == "COMPLETED" for s in parts), f"{what}: array tasks ended {parts}")
+            state = cluster.wait_job(merge, 60)
+            check(state == ["COMPLETED"], f"{what}: merge job ended {state}")
+        compare(singles["pt"], jobs["pt"][0], True, "pt, 4 sample chunks on Slurm")
+        compare(singles["bdpt"], jobs["bdpt"][0], False, "bdpt, 4 sample chunks on Slurm")
+        compare(singles["pt"], jobs["tiles"][0], True, "pt, 2x2 tiles on Slurm")
+
+        parts = cluster.wait_job(broken_jobs[0], 60)
+        check(all(s == "FAILED" for s in parts), f"failing parts ended {parts}, expected FAILED")
+        state = cluster.wait_job(broken_jobs[1], 30)
+        check(state == ["CANCELLED"], f"the merge of failed parts ended {state}, expected CANCELLED (not PENDING)")
+        check(not os.path.exists(broken), "the merge of failed parts wrote an image")
+    except (RuntimeError, subprocess.SubprocessError) as e:
+        check(False, str(e))
+        for log in ("slurmctld.log", "slurmd.log", "munged.log"):
+            path = os.path.join(tmp, "log", log)
+            if os.path.exists(path):
+                print(f"--- {log} (last lines)")
+                print("".join(open(path).readlines()[-15:]))
+    finally:
+        cluster.stop()
+        if not FAILURES:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if FAILURES:
+        print(f"{len(FAILURES)} failure(s); cluster files in {tmp}")
+        return 1
+    print("slurm cluster: all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
