@@ -97,11 +97,12 @@ def main():
     veach, scene = args.veach, args.scene
     with tempfile.TemporaryDirectory() as tmp:
         quarters = [(0, 4), (4, 8), (8, 12), (12, 16)]
+        halves = [(0, 8), (8, 16)]
         tiles = [(0, 32, 0, 32), (32, 64, 0, 32), (0, 32, 32, 64), (32, 64, 32, 64)]
         for integrator in ("pt", "bdpt", "lt"):
             single = os.path.join(tmp, f"single_{integrator}.exr")
             render(veach, scene, single, "--integrator", integrator)
-            parts = sample_parts(veach, scene, tmp, integrator, quarters, integrator)
+            parts = sample_parts(veach, scene, tmp, integrator, quarters if integrator == "pt" else halves, integrator)
             out = os.path.join(tmp, f"merged_{integrator}.exr")
             r = merge(veach, parts, out, "--expect-spp", str(SPP))
             if check(r.returncode == 0, f"{integrator}: merge exit {r.returncode}: {r.stderr.strip()}"):
@@ -125,7 +126,7 @@ def main():
         single = os.path.join(tmp, "single_bdpt.exr")
         crossed = []
         for x0, x1 in ((0, 32), (32, 64)):
-            crossed += sample_parts(veach, scene, tmp, "bdpt", [(0, 8), (8, 16)], f"cross_{x0}",
+            crossed += sample_parts(veach, scene, tmp, "bdpt", halves, f"cross_{x0}",
                                     "--pixelbounds", f"{x0},{x1},0,64")
         out = os.path.join(tmp, "crossed.exr")
         r = merge(veach, crossed, out, "--expect-spp", str(SPP))

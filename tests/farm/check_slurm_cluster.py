@@ -228,9 +228,9 @@ def main():
 
         for what, (out, ids) in jobs.items():
             array, merge = ids[0], ids[1]
-            parts = cluster.wait_job(array, 90)
+            parts = cluster.wait_job(array, 150)
             check(all(s == "COMPLETED" for s in parts), f"{what}: array tasks ended {parts}")
-            state = cluster.wait_job(merge, 60)
+            state = cluster.wait_job(merge, 90)
             check(state == ["COMPLETED"], f"{what}: merge job ended {state}")
         compare(singles["pt"], jobs["pt"][0], True, "pt, 4 sample chunks on Slurm")
         compare(singles["bdpt"], jobs["bdpt"][0], False, "bdpt, 4 sample chunks on Slurm")

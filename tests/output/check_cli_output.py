@@ -66,7 +66,7 @@ def checkpoint_spp(path):
             header = f.read(24)
     except OSError:
         return -1
-    if len(header) < 24 or header[:8] != b"VEACHCK1":
+    if len(header) < 24 or header[:8] != b"VEACHCK2":
         return -1
     return int.from_bytes(header[20:24], sys.byteorder, signed=True)
 
