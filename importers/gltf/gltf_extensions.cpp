@@ -17,7 +17,7 @@ constexpr std::string_view k_supported[] = {
     "KHR_materials_volume",       "KHR_mesh_quantization",
     "KHR_texture_basisu",  // its fallback `source` renders; a BasisU-only texture is refused
     "KHR_texture_transform",      "EXT_meshopt_compression",
-    "EXT_texture_webp",
+    "EXT_texture_webp",           "VEACH_lights_blender",
 };
 
 }  // namespace

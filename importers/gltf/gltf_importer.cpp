@@ -351,6 +351,12 @@ struct LightDef {
     Rgb color{1, 1, 1};
     double intensity = 1, range = 0;
     double inner_cone = 0, outer_cone = k_pi / 4;
+    // VEACH_lights_blender (README, "Blender's lights"): what KHR_lights_punctual cannot carry.
+    std::optional<AreaShape> area;  // an area light; the punctual type is only a fallback
+    double size_x = 1, size_y = 1;  // area: metres in the light's local X and Y
+    double power = 0;               // area: Blender's Power, W
+    double radius = 0;              // point, spot: the sphere's radius, m
+    double angle = 0;               // sun: angular diameter, radians
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -382,6 +388,7 @@ private:
     void load(std::span<const uint8_t> bytes, bool binary);
     void check_extensions();
     void parse_lights();
+    void parse_blender_light(const tinygltf::Value* ext, const std::string& label, LightDef* def);
     std::vector<int> root_nodes();
     void visit(int node_index, const Transform& parent, int depth);
     Transform local_transform(int node_index) const;
@@ -488,6 +495,35 @@ void GltfImporter::check_extensions() {
     }
 }
 
+// Blender's own light quantities, converted where the light is placed (add_light).
+void GltfImporter::parse_blender_light(const tinygltf::Value* ext, const std::string& label, LightDef* def) {
+    if (!ext || !ext->IsObject()) return;
+    const tinygltf::Value* shape = gltf::json_member(ext, "shape");
+    std::string shape_name = shape && shape->IsString() ? shape->Get<std::string>() : "";
+    // "size": [x, y]; a square or a disk needs only x.
+    double size[2] = {1, 1};
+    const tinygltf::Value* size_value = gltf::json_member(ext, "size");
+    bool one = size_value && size_value->IsArray() && size_value->ArrayLen() == 1;
+    if (size_value && !gltf::json_numbers(size_value, size, one ? 1 : 2))
+        m_context->warn(label + ": VEACH_lights_blender size is not [x, y] in metres; using 1 x 1");
+    if (shape_name == "square" || shape_name == "rectangle" || shape_name == "disk" || shape_name == "ellipse") {
+        bool round = shape_name == "disk" || shape_name == "ellipse";
+        def->area = round ? AreaShape::Ellipse : AreaShape::Rectangle;
+        def->size_x = std::max(0.0, size[0]);
+        def->size_y = std::max(0.0, (shape_name == "square" || shape_name == "disk") ? size[0] : size[1]);
+        def->power = std::max(0.0, gltf::json_number(ext, "power", 0.0));
+        double spread = gltf::json_number(ext, "spread", k_pi);
+        if (std::fabs(spread - k_pi) > 1e-3)
+            m_context->warn(label + ": area light spread of " + std::to_string(int(std::lround(spread * 180 / k_pi))) +
+                            " degrees is not supported; rendered as 180 degrees");
+        def->type = LightType::Area;
+    } else if (!shape_name.empty() && shape_name != "point" && shape_name != "spot" && shape_name != "sun") {
+        m_context->warn(label + ": VEACH_lights_blender shape '" + shape_name + "' is unknown; ignored");
+    }
+    def->radius = std::max(0.0, gltf::json_number(ext, "radius", 0.0));
+    def->angle = std::clamp(gltf::json_number(ext, "angle", 0.0), 0.0, double(k_pi));
+}
+
 void GltfImporter::parse_lights() {
     const tinygltf::Value* ext = gltf::json_extension(m_model.extensions, "KHR_lights_punctual");
     const tinygltf::Value* lights = gltf::json_member(ext, "lights");
@@ -517,6 +553,8 @@ void GltfImporter::parse_lights() {
         const tinygltf::Value* spot = gltf::json_member(&v, "spot");
         def.inner_cone = gltf::json_number(spot, "innerConeAngle", 0.0);
         def.outer_cone = gltf::json_number(spot, "outerConeAngle", k_pi / 4);
+        parse_blender_light(gltf::json_member(gltf::json_member(&v, "extensions"), "VEACH_lights_blender"), label,
+                            &def);
         m_lights.push_back(def);
     }
 }
@@ -895,6 +933,22 @@ void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const T
         light.falloff = m_spot_falloff;
     }
     light.range = def.range > 0 ? float(def.range) : 0.0f;
+    if (light.type == LightType::Point || light.type == LightType::Spot) light.radius = float(def.radius);
+    if (light.type == LightType::Directional) light.angle = float(def.angle);
+    if (light.type == LightType::Area) {
+        // Blender's area light: size along the local X and Y (scaled with the object, as Cycles
+        // does), emitting along local -Z; Cycles gives power P over area A the radiance P / (4 A).
+        light.shape = *def.area;
+        light.axis_u = world.vector(Vec3(float(0.5 * def.size_x), 0, 0));
+        light.axis_v = world.vector(Vec3(0, float(0.5 * def.size_y), 0));
+        float area = length(cross(light.axis_u, light.axis_v)) * (light.shape == AreaShape::Rectangle ? 4.0f : k_pi);
+        if (!(area > 0.0f) || !std::isfinite(area)) {
+            m_context->warn(light.name + ": area light of zero size; ignored");
+            return;
+        }
+        light.radiance = def.color * float(def.power / (4.0 * double(area)));
+        light.intensity = Rgb(0.0f);
+    }
     m_scene.lights.push_back(light);
     m_scene.features.punctual_lights = true;
 }

@@ -161,4 +161,55 @@ float EnvironmentLight::pdf_w(const Vec3& w) const {
     return static_cast<float>(cell / t.total * t.width * t.height / (2.0 * k_pi * k_pi * sin_theta));
 }
 
+double EnvironmentLight::power(const LightContext& ctx) const {
+    // The power that crosses the scene's bounding disc: pi R^2 times radiance over the sphere.
+    return k_pi * double(ctx.radius) * ctx.radius * radiance_integral();
+}
+
+bool EnvironmentLight::sample_direct(const LightContext& ctx, const Vec3& receiver, float u1, float u2, float pmf,
+                                     LightSample* out) const {
+    float pdf_dir;
+    out->wi = sample(u1, u2, &pdf_dir);
+    if (!(pdf_dir > 0.0f)) return false;
+    out->distance = k_infinity;
+    out->point = ctx.far_point(receiver, out->wi);
+    out->normal = Vec3();
+    out->radiance = radiance(out->wi);
+    out->pdf_w = pmf * pdf_dir;
+    out->is_delta = false;
+    out->is_infinite = true;
+    return std::isfinite(out->pdf_w) && !out->radiance.is_black();
+}
+
+float EnvironmentLight::pdf_direct_w(const LightContext&, const Vec3&, const Vec3& wi, const Vec3&, float pmf) const {
+    return pmf * pdf_w(wi);
+}
+
+bool EnvironmentLight::sample_emission(const LightContext& ctx, float, float u1, float u2, float u3, float u4,
+                                       LightEmission* out) const {
+    // A direction toward the environment from its map density, then parallel rays along the
+    // opposite direction through a disc covering the scene's bounding sphere, outside it
+    // (pbrt-v3 section 16.1.2): pdf_pos_a = 1 / (pi R^2).
+    float pdf_dir;
+    Vec3 w = sample(u1, u2, &pdf_dir);
+    if (!(pdf_dir > 0.0f)) return false;
+    Frame frame(-w);
+    Vec2 d = sample_concentric_disk(u3, u4);
+    out->point = ctx.center + (frame.s * d.x + frame.t * d.y) * ctx.radius + w * ctx.radius;
+    out->normal = Vec3(0, 0, 0);
+    out->dir = -w;
+    out->value = radiance(w);
+    out->pdf_pos_a = ctx.disc_pdf_a();
+    out->pdf_dir_w = pdf_dir;
+    out->delta_position = out->delta_direction = false;
+    out->infinite = true;
+    return std::isfinite(pdf_dir) && !out->value.is_black();
+}
+
+void EnvironmentLight::pdf_emission(const LightContext& ctx, const Vec3&, const Vec3& dir, float* pdf_pos_a,
+                                    float* pdf_dir_w) const {
+    *pdf_pos_a = ctx.disc_pdf_a();
+    *pdf_dir_w = pdf_w(-dir);  // dir is the way the particle travels, away from the sky
+}
+
 }  // namespace veach

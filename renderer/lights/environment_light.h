@@ -14,6 +14,7 @@
 
 #include "core/math.h"
 #include "core/rgb.h"
+#include "lights/light_queries.h"
 #include "scene/scene.h"
 
 namespace veach {
@@ -31,6 +32,21 @@ public:
     float pdf_w(const Vec3& w) const;
     // Integral of radiance over the sphere (channel average), for choosing lights by power.
     float radiance_integral() const { return m_integral; }
+
+    // The queries every light answers (lights/light_queries.h). In radiance(), w is the direction
+    // light travels (from the environment toward the scene), p is not used.
+    bool delta_position() const { return false; }
+    bool at_infinity() const { return true; }
+    double power(const LightContext& ctx) const;
+    bool sample_direct(const LightContext& ctx, const Vec3& receiver, float u1, float u2, float pmf,
+                       LightSample* out) const;
+    float pdf_direct_w(const LightContext& ctx, const Vec3& receiver, const Vec3& wi, const Vec3& p, float pmf) const;
+    bool sample_emission(const LightContext& ctx, float u_side, float u1, float u2, float u3, float u4,
+                         LightEmission* out) const;
+    void pdf_emission(const LightContext& ctx, const Vec3& p, const Vec3& dir, float* pdf_pos_a,
+                      float* pdf_dir_w) const;
+    Rgb radiance(const LightContext&, const Vec3&, const Vec3& w) const { return radiance(-w); }
+    bool intersect(const Vec3&, const Vec3&, float, LightHit*) const { return false; }
 
 private:
     struct Table;  // the map and its sampling tables, shared by copies

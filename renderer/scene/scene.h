@@ -126,7 +126,10 @@ struct Instance {
     Transform object_to_world;
 };
 
-enum class LightType : uint8_t { Point, Spot, Directional };
+// Point and spot lights with a radius are spheres; a directional light with an angle is a sun
+// disc; Area is Blender's area light (a rectangle or an ellipse, one-sided).
+enum class LightType : uint8_t { Point, Spot, Directional, Area };
+enum class AreaShape : uint8_t { Rectangle, Ellipse };
 
 // How a spot light's intensity falls off inside its cone.
 enum class SpotFalloff : uint8_t {
@@ -134,8 +137,9 @@ enum class SpotFalloff : uint8_t {
     Blender,  // Cycles 3.4: cos(theta) * smoothstep(t / ((1 - cos(size/2)) * blend))
 };
 
-// KHR_lights_punctual, converted to Cycles' radiometry: point and spot intensity in W/sr,
-// directional irradiance in W/m^2 (the photometric values Blender writes divided by 683).
+// KHR_lights_punctual (and the shapes of VEACH_lights_blender), converted to Cycles' radiometry:
+// point and spot intensity in W/sr, directional irradiance in W/m^2 (the photometric values
+// Blender writes divided by 683), area radiance in W/(m^2 sr).
 struct PunctualLight {
     std::string name;
     LightType type = LightType::Point;
@@ -145,7 +149,14 @@ struct PunctualLight {
     float cos_outer = -1, cos_inner = -1;  // spot cone
     float blend = 0;                       // Blender spot blend, derived from the cone angles
     SpotFalloff falloff = SpotFalloff::Gltf;
-    float range = 0;  // 0 = infinite (the range cut-off is a real-time hint we ignore)
+    float range = 0;   // 0 = infinite (the range cut-off is a real-time hint we ignore)
+    float radius = 0;  // point and spot: the emitting sphere's radius (0: a true point)
+    float angle = 0;   // directional: the sun's angular diameter, radians (0: a delta direction)
+    // Area: centred on `position`, emitting along `direction`; `axis_u` and `axis_v` are the
+    // half-extent vectors of the rectangle (or of the ellipse's bounding rectangle), world space.
+    AreaShape shape = AreaShape::Rectangle;
+    Vec3 axis_u, axis_v;
+    Rgb radiance;  // area: W/(m^2 sr), colour included
 };
 
 struct Camera {

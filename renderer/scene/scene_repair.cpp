@@ -201,7 +201,8 @@ void repair_attributes(Mesh& mesh, RepairCounts& counts) {
 
 bool light_is_finite(const PunctualLight& l) {
     return is_finite(l.position) && is_finite(l.direction) && l.intensity.is_finite() && std::isfinite(l.cos_outer) &&
-           std::isfinite(l.cos_inner) && std::isfinite(l.blend);
+           std::isfinite(l.cos_inner) && std::isfinite(l.blend) && std::isfinite(l.radius) && std::isfinite(l.angle) &&
+           is_finite(l.axis_u) && is_finite(l.axis_v) && l.radiance.is_finite();
 }
 
 std::string summary(const RepairCounts& c) {

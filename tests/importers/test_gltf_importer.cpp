@@ -354,6 +354,45 @@ TEST(GltfImporter, PunctualLightsAreConvertedToRadiometricUnits) {
     expect_vec3(spot.direction, 0, 0, -1);
 }
 
+// VEACH_lights_blender: Blender's area lights, light radius and sun angle, in Blender's quantities.
+TEST(GltfImporter, BlenderLightExtensionGivesAreaLightsRadiusAndSunAngle) {
+    GltfBuilder b = light_scene("Khronos glTF Blender I/O v3.4.50");
+    auto& lights = b.doc["extensions"]["KHR_lights_punctual"]["lights"];
+    lights[0]["extensions"]["VEACH_lights_blender"] = {{"shape", "point"}, {"radius", 0.25}, {"power", 10}};
+    lights[1]["extensions"]["VEACH_lights_blender"] = {{"shape", "sun"}, {"angle", 0.2}};
+    lights.push_back(
+        {{"type", "point"},
+         {"color", {1, 1, 1}},
+         {"intensity", 1},
+         {"extensions",
+          {{"VEACH_lights_blender", {{"shape", "ellipse"}, {"size", {2, 0.5}}, {"power", 100}, {"spread", 1.0}}}}}});
+    lights.push_back({{"type", "point"},
+                      {"extensions", {{"VEACH_lights_blender", {{"shape", "square"}, {"size", {3}}, {"power", 36}}}}}});
+    b.push(
+        "nodes",
+        {{"translation", {0, 4, 0}}, {"scale", {2, 1, 1}}, {"extensions", {{"KHR_lights_punctual", {{"light", 3}}}}}});
+    b.push("nodes", {{"extensions", {{"KHR_lights_punctual", {{"light", 4}}}}}});
+    b.scene({0, 1, 2, 3, 4});
+    Scene s = load(b);
+    ASSERT_EQ(s.lights.size(), 5u);
+    EXPECT_FLOAT_EQ(s.lights[0].radius, 0.25f);
+    EXPECT_FLOAT_EQ(s.lights[0].intensity.r, 2.0f);  // the KHR intensity stays
+    EXPECT_FLOAT_EQ(s.lights[1].angle, 0.2f);
+    const PunctualLight& ellipse = s.lights[3];
+    EXPECT_EQ(ellipse.type, LightType::Area);
+    EXPECT_EQ(ellipse.shape, AreaShape::Ellipse);
+    expect_vec3(ellipse.axis_u, 2, 0, 0);  // half of 2 m, times the node's X scale of 2
+    expect_vec3(ellipse.axis_v, 0, 0.25f, 0);
+    expect_vec3(ellipse.direction, 0, 0, -1);
+    // Cycles: P / (4 A), A the ellipse's world area pi x 2 x 0.25.
+    EXPECT_NEAR(ellipse.radiance.g, 100.0f / (4.0f * k_pi * 2.0f * 0.25f), 1e-4f);
+    const PunctualLight& square = s.lights[4];
+    EXPECT_EQ(square.shape, AreaShape::Rectangle);
+    expect_vec3(square.axis_v, 0, 1.5f, 0);  // a square's size is its one number
+    EXPECT_NEAR(square.radiance.g, 36.0f / (4.0f * 9.0f), 1e-5f);
+    EXPECT_EQ(count_warnings(s, "spread of 57 degrees is not supported"), 1u);
+}
+
 TEST(GltfImporter, SpotFalloffFollowsGeneratorUnlessForced) {
     EXPECT_EQ(load(light_scene("Khronos glTF Blender I/O v3.4.50")).lights.at(2).falloff, SpotFalloff::Blender);
     EXPECT_EQ(load(light_scene("Some Other Tool")).lights.at(2).falloff, SpotFalloff::Gltf);
@@ -691,8 +730,10 @@ TEST(GltfImporter, ReadmeExtensionTableIsTheSupportedList) {
     std::string line;
     while (std::getline(readme, line)) {
         // Rows of the extension table: "  | KHR_x | yes | note |" (README indents it in a list).
-        size_t start = line.find("| KHR_"), ext = line.find("| EXT_");
+        // Veach's own (VEACH_) are listed there too.
+        size_t start = line.find("| KHR_"), ext = line.find("| EXT_"), own = line.find("| VEACH_");
         if (start == std::string::npos) start = ext;
+        if (start == std::string::npos) start = own;
         if (start == std::string::npos || line.find_first_not_of(' ') != start) continue;
         size_t name_end = line.find('|', start + 1);
         size_t support_end = line.find('|', name_end + 1);

@@ -55,7 +55,7 @@ struct ChiSquareResult {
 // sample(rng, &dir) -> false when no direction; pdf(dir) -> density per solid angle.
 inline ChiSquareResult chi_square_directions(const std::function<bool(Rng&, Vec3*)>& sample,
                                              const std::function<double(const Vec3&)>& pdf, int n_samples = 1000000,
-                                             int theta_bins = 40, int phi_bins = 80) {
+                                             int theta_bins = 40, int phi_bins = 80, int sub = 6) {
     int cells = theta_bins * phi_bins;
     std::vector<double> observed(cells, 0.0), expected(cells, 0.0);
     Rng rng(1234, 5678);
@@ -74,8 +74,8 @@ inline ChiSquareResult chi_square_directions(const std::function<bool(Rng&, Vec3
         ++produced;
         observed[cell_of(d)] += 1;
     }
-    // Integrate the pdf over each cell with a 6x6 midpoint rule in (z, phi): equal solid angle.
-    const int sub = 6;
+    // Integrate the pdf over each cell with a sub x sub midpoint rule in (z, phi): equal solid
+    // angle (densities with sharp edges, a light's outline, need a finer rule).
     double cell_solid_angle = 4.0 * k_pi / cells;
     for (int ti = 0; ti < theta_bins; ++ti)
         for (int pi = 0; pi < phi_bins; ++pi) {

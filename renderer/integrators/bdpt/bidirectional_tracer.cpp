@@ -66,6 +66,8 @@ private:
     int trace_light_subpath(Workspace& ws, Sampler& rng);
     int random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, Vec3 dir, Rgb beta, float pdf_w,
                     TransportMode mode, int max_vertices, Sampler& rng, float roulette_scale);
+    void add_shape_lights_crossed(std::vector<PathVertex>& path, int count, const Vec3& origin, const Vec3& dir,
+                                  float t_max, const Rgb& beta, const Rgb& sigma, float pdf_w);
     bool visible(const PathVertex& a, const PathVertex& b);
     Rgb emitted_toward(const PathVertex& v, const Vec3& w) const;
     float light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const;
@@ -86,6 +88,7 @@ private:
     const RenderSettings& m_settings;
     const BdptOptions& m_options;
     ThreadStats& m_stats;
+    Rgb m_shape_radiance;  // s = 0 contributions of shaped lights the camera subpath crossed
 };
 
 // Fills a surface vertex from a hit and builds its BSDF facing the arriving direction.
@@ -118,14 +121,17 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
     while (count < max_vertices) {
         RayHit rh;
         ++m_stats.rays;
-        if (!m_rs.accel().intersect(origin, dir, k_infinity, &rh)) {
-            if (mode == TransportMode::Radiance && m_lights.environment_index() >= 0) {
+        bool found = m_rs.accel().intersect(origin, dir, k_infinity, &rh);
+        if (mode == TransportMode::Radiance && !m_lights.shape_lights().empty())
+            add_shape_lights_crossed(path, count, origin, dir, found ? rh.t : k_infinity, beta, sigma, pdf_w);
+        if (!found) {
+            if (mode == TransportMode::Radiance && !m_lights.infinite_lights().empty()) {
                 // A camera subpath that escapes ends on the environment: a light vertex at
                 // infinity, where directions are the area measure (pdf_fwd per solid angle).
                 PathVertex& v = path[count];
                 v.reset_endpoint(PathVertex::Kind::Light);
                 v.infinite = true;
-                v.light = m_lights.environment_index();
+                v.light = m_lights.infinite_lights().front();  // sample() visits each of them
                 v.light_dir = -dir;
                 v.p = origin + dir * (4.0f * m_lights.scene_radius() + length(origin));
                 v.beta = beta;
@@ -184,6 +190,36 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
     return count;
 }
 
+// Lights with a shape (area lights, spheres) are not scene geometry and do not block rays: a camera
+// subpath segment that crosses one is, for that light, a complete path found by the camera alone
+// (s = 0), evaluated here with the crossing as a light vertex in slot `count`, which the walk then
+// reuses for the surface behind it.
+void Tracer::add_shape_lights_crossed(std::vector<PathVertex>& path, int count, const Vec3& origin, const Vec3& dir,
+                                      float t_max, const Rgb& beta, const Rgb& sigma, float pdf_w) {
+    int t = count + 1;
+    if (count >= static_cast<int>(path.size()) || !wanted(0, t)) return;
+    for (uint32_t index : m_lights.shape_lights()) {
+        LightHit lh;
+        if (!m_lights.intersect(index, origin, dir, t_max, &lh)) continue;
+        Rgb le = m_lights.radiance(index, lh.p, -dir);
+        if (le.is_black()) continue;
+        const PathVertex& prev = path[count - 1];
+        PathVertex& v = path[count];
+        v.reset_endpoint(PathVertex::Kind::Light);
+        v.light = index;
+        v.p = lh.p;
+        v.ng = lh.n;
+        v.has_normal = true;
+        v.beta = beta * beer_lambert(sigma, lh.t * length(dir));
+        if (prev.kind == PathVertex::Kind::Camera && m_camera.orthographic())
+            v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
+        else
+            v.pdf_fwd = to_area_density(pdf_w, prev, v);
+        float w = weighted() ? mis_weight(path, 0, path, t, nullptr) : 1.0f;
+        m_shape_radiance += v.beta * le * w;
+    }
+}
+
 int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng) {
     PathVertex& c = ws.camera[0];
     c.reset_endpoint(PathVertex::Kind::Camera);
@@ -210,8 +246,8 @@ int Tracer::trace_light_subpath(Workspace& ws, Sampler& rng) {
     l.light = e.light;
     l.p = e.point;
     l.ng = e.normal;
-    // The environment emits from a disc at infinity: no surface, no normal, like the sun.
-    bool environment = m_lights.is_environment(e.light);
+    // The environment and sun discs emit from a disc at infinity: no surface, no normal.
+    bool environment = e.infinite && !e.delta_direction;
     l.has_normal = !e.delta_position && !e.delta_direction && !environment;
     l.delta_light = e.delta_position || e.delta_direction;
     l.infinite = e.delta_direction || environment;
@@ -257,22 +293,23 @@ bool Tracer::visible(const PathVertex& a, const PathVertex& b) {
 
 // Radiance a surface vertex on an emitter (or the environment vertex) sends toward unit direction w.
 Rgb Tracer::emitted_toward(const PathVertex& v, const Vec3& w) const {
-    if (v.light >= 0 && v.infinite && m_lights.is_environment(static_cast<size_t>(v.light)))
-        return m_lights.environment_radiance(-v.light_dir);
-    if (v.light < 0 || v.kind != PathVertex::Kind::Surface) return Rgb(0.0f);
+    if (v.light < 0) return Rgb(0.0f);
+    if (v.infinite) return m_lights.radiance(static_cast<size_t>(v.light), v.p, v.light_dir);
+    if (v.kind == PathVertex::Kind::Light) return m_lights.radiance(static_cast<size_t>(v.light), v.p, w);
+    if (v.kind != PathVertex::Kind::Surface) return Rgb(0.0f);
     const auto& tl = std::get<TriangleLight>(m_lights.light(static_cast<size_t>(v.light)));
-    return m_lights.triangle_radiance(tl, w, evaluate_emission(*v.material, m_rs.scene(), v.attr));
+    return tl.radiance_toward(w, evaluate_emission(*v.material, m_rs.scene(), v.attr));
 }
 
 // Area density with which the light sampler produces point v (on a light) as a path origin.
 float Tracer::light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const {
     float pdf_pos, pdf_dir;
-    if (m_lights.is_environment(static_cast<size_t>(v.light))) {
+    if (m_lights.is_at_infinity(static_cast<size_t>(v.light)) && !v.delta_light) {
         // At infinity the origin's "area" density is that of its direction.
-        m_lights.pdf_emission(static_cast<size_t>(v.light), v.light_dir, &pdf_pos, &pdf_dir);
+        m_lights.pdf_emission(static_cast<size_t>(v.light), v.p, v.light_dir, &pdf_pos, &pdf_dir);
         return m_lights.selection_pmf(static_cast<size_t>(v.light)) * pdf_dir;
     }
-    m_lights.pdf_emission(static_cast<size_t>(v.light), dir_out, &pdf_pos, &pdf_dir);
+    m_lights.pdf_emission(static_cast<size_t>(v.light), v.p, dir_out, &pdf_pos, &pdf_dir);
     return m_lights.selection_pmf(static_cast<size_t>(v.light)) * pdf_pos;
 }
 
@@ -280,14 +317,14 @@ float Tracer::light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const
 float Tracer::light_emission_pdf_area(const PathVertex& light_v, const PathVertex& to) const {
     if (light_v.infinite) {
         float pdf_pos, pdf_dir;
-        m_lights.pdf_emission(static_cast<size_t>(light_v.light), light_v.light_dir, &pdf_pos, &pdf_dir);
+        m_lights.pdf_emission(static_cast<size_t>(light_v.light), light_v.p, light_v.light_dir, &pdf_pos, &pdf_dir);
         return to.has_normal ? pdf_pos * std::fabs(dot(to.ng, light_v.light_dir)) : pdf_pos;
     }
     Vec3 d = to.p - light_v.p;
     float len = length(d);
     if (!(len > 0.0f)) return 0.0f;
     float pdf_pos, pdf_dir;
-    m_lights.pdf_emission(static_cast<size_t>(light_v.light), d / len, &pdf_pos, &pdf_dir);
+    m_lights.pdf_emission(static_cast<size_t>(light_v.light), light_v.p, d / len, &pdf_pos, &pdf_dir);
     return to_area_density(pdf_dir, light_v, to);
 }
 
@@ -351,9 +388,10 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
 }
 
 Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) {
+    m_shape_radiance = Rgb(0.0f);
     int n_camera = trace_camera_subpath(ws, fx, fy, rng);
     int n_light = trace_light_subpath(ws, rng);
-    Rgb radiance(0.0f);
+    Rgb radiance = m_shape_radiance;
 
     for (int t = 1; t <= n_camera; ++t) {
         for (int s = 0; s <= n_light || (s == 1 && t > 1); ++s) {
@@ -363,6 +401,21 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
             if (s == 0) {
                 // The camera subpath found an emitter by itself.
                 if (t < 2 || z.light < 0) continue;
+                if (z.infinite) {
+                    // Escaped: every light at infinity is seen along this direction, each with
+                    // its own densities.
+                    PathVertex& zi = ws.camera[t - 1];
+                    int64_t first = zi.light;
+                    for (uint32_t index : m_lights.infinite_lights()) {
+                        zi.light = index;
+                        Rgb le = emitted_toward(zi, Vec3());
+                        if (le.is_black()) continue;
+                        float w = weighted() ? mis_weight(ws.light, 0, ws.camera, t, nullptr) : 1.0f;
+                        radiance += zi.beta * le * w;
+                    }
+                    zi.light = first;
+                    continue;
+                }
                 Rgb le = emitted_toward(z, normalize(ws.camera[t - 2].p - z.p));
                 if (le.is_black()) continue;
                 Rgb c = z.beta * le;
@@ -383,18 +436,28 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 float px, py;
                 if (!(we > 0.0f) || !m_camera.project(y.p, &px, &py)) continue;
                 Rgb f;
+                Rgb y_beta = y.beta;
                 if (s == 1) {
                     // y.beta = Le / (pmf pdf_pos): the light point itself, seen by the camera.
                     // Whether it emits toward the camera does not depend on the side the
                     // emission sample picked for its direction.
-                    const auto& tl = std::get<TriangleLight>(m_lights.light(static_cast<size_t>(y.light)));
-                    if (m_lights.triangle_radiance(tl, -w, Rgb(1.0f)).is_black()) continue;
+                    const Light& yl = m_lights.light(static_cast<size_t>(y.light));
+                    if (const auto* tl = std::get_if<TriangleLight>(&yl)) {
+                        if (tl->radiance_toward(-w, Rgb(1.0f)).is_black()) continue;
+                    } else {
+                        // Lights whose radiance depends on the direction (spheres of spot lights).
+                        float pdf_pos, pdf_dir;
+                        m_lights.pdf_emission(static_cast<size_t>(y.light), y.p, -w, &pdf_pos, &pdf_dir);
+                        Rgb le = m_lights.radiance(static_cast<size_t>(y.light), y.p, -w);
+                        if (le.is_black() || !(pdf_pos > 0.0f)) continue;
+                        y_beta = le / (m_lights.selection_pmf(static_cast<size_t>(y.light)) * pdf_pos);
+                    }
                     f = Rgb(std::fabs(dot(y.ng, w)));
                 } else {
                     f = y.bsdf.eval(normalize(ws.light[s - 2].p - y.p), -w, TransportMode::Importance);
                 }
                 if (f.is_black()) continue;
-                Rgb c = y.beta * f * (we * dot(w, m_camera.forward()) / dist2);
+                Rgb c = y_beta * f * (we * dot(w, m_camera.forward()) / dist2);
                 c *= beer_lambert(medium_toward(y, -w), std::sqrt(dist2));
                 if (c.is_black() || !visible(y, z)) continue;
                 float weight = weighted() ? mis_weight(ws.light, s, ws.camera, 1, nullptr) : 1.0f;
@@ -428,10 +491,9 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                     lv.infinite = ls.is_infinite;
                     lv.delta_light = ls.is_delta;
                     lv.light_dir = -ls.wi;
-                    const LightVariant& var = m_lights.light(ls.light);
-                    if (const auto* tl = std::get_if<TriangleLight>(&var)) {
+                    if (length_squared(ls.normal) > 0.0f) {
                         lv.has_normal = true;
-                        lv.ng = dot(tl->n, ls.wi) < 0.0f ? tl->n : -tl->n;  // the side facing z
+                        lv.ng = ls.normal;  // the side facing z
                     }
                     lv.pdf_fwd = light_origin_pdf_a(lv, -ls.wi);
                     w = mis_weight(ws.light, 1, ws.camera, t, &lv);

@@ -27,12 +27,29 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
     for (int bounce = 0;; ++bounce) {
         RayHit rh;
         ++stats.rays;
-        if (!rs.accel().intersect(origin, dir, k_infinity, &rh)) {
-            // Escaped: the environment, weighted against the light sample that could have
-            // chosen the same direction (its density is per solid angle, as the BSDF's).
-            if (lights.environment_index() >= 0) {
-                Rgb le = lights.environment_radiance(dir);
-                float w = prev_specular ? 1.0f : power_heuristic(prev_bsdf_pdf, lights.environment_pdf_w(dir));
+        bool found = rs.accel().intersect(origin, dir, k_infinity, &rh);
+        // Lights with a shape of their own (area lights, spheres) are not scene geometry: the ray
+        // picks up what they send toward it and goes on (they cast no shadow), as in Cycles.
+        if (!lights.shape_lights().empty()) {
+            float t_max = found ? rh.t : k_infinity;
+            for (uint32_t index : lights.shape_lights()) {
+                LightHit lh;
+                if (!lights.intersect(index, origin, dir, t_max, &lh)) continue;
+                Rgb le = lights.radiance(index, lh.p, -dir);
+                if (le.is_black()) continue;
+                float w = prev_specular ? 1.0f
+                                        : power_heuristic(prev_bsdf_pdf, lights.pdf_direct_w(index, prev_p, lh.p, dir));
+                radiance += beta * beer_lambert(sigma_a, lh.t * length(dir)) * le * w;
+            }
+        }
+        if (!found) {
+            // Escaped: the environment and sun discs, weighted against the light sample that
+            // could have chosen the same direction (its density is per solid angle, as the BSDF's).
+            for (uint32_t index : lights.infinite_lights()) {
+                Rgb le = lights.radiance(index, origin, -dir);
+                float w = prev_specular
+                              ? 1.0f
+                              : power_heuristic(prev_bsdf_pdf, lights.pdf_direct_w(index, origin, origin, dir));
                 radiance += beta * le * w;
             }
             break;
@@ -47,11 +64,11 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
         int64_t emitter = lights.emitter_of(hit.instance, hit.prim);
         if (emitter >= 0) {
             const auto& tl = std::get<TriangleLight>(lights.light(static_cast<size_t>(emitter)));
-            Rgb le = lights.triangle_radiance(tl, wo, evaluate_emission(*hit.material, scene, hit.attr));
+            Rgb le = tl.radiance_toward(wo, evaluate_emission(*hit.material, scene, hit.attr));
             if (!le.is_black()) {
                 float w = 1.0f;
                 if (!prev_specular) {
-                    float light_pdf = lights.pdf_direct_w(static_cast<size_t>(emitter), prev_p, hit.p);
+                    float light_pdf = lights.pdf_direct_w(static_cast<size_t>(emitter), prev_p, hit.p, dir);
                     w = power_heuristic(prev_bsdf_pdf, light_pdf);
                 }
                 radiance += beta * le * w;
