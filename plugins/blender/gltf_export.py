@@ -20,7 +20,7 @@ import os
 
 import numpy as np
 
-from . import materials
+from . import blender_lights, materials
 
 # Blender is Z up, glTF Y up: glTF (x, y, z) = Blender (x, z, -y).
 TO_GLTF = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)
@@ -187,25 +187,29 @@ def camera_entry(camera, width, height, export):
 
 
 def light_entry(light, export):
-    """KHR_lights_punctual's light for a Blender point, spot or sun; None for the others."""
+    """KHR_lights_punctual's light for a Blender light; what glTF cannot carry (area lights, a
+    radius, a sun angle) goes into VEACH_lights_blender on it (blender_lights.py)."""
     color = [float(c) for c in light.color]
     if not light.use_shadow:
         export.warn("light shadow", "lights without shadows are not carried over (they cast shadows)")
     if light.type == "SUN":
-        if light.angle > 0:
-            export.warn("sun angle", "sun angle is not carried over (hard shadows)")
-        return {"type": "directional", "color": color, "intensity": light.energy * WATTS_TO_LUMENS}
-    if light.type in ("POINT", "SPOT"):
-        if light.shadow_soft_size > 0:
-            export.warn("light radius", "point and spot light radius is not carried over (hard shadows)")
+        entry = {"type": "directional", "color": color, "intensity": light.energy * WATTS_TO_LUMENS}
+    elif light.type in ("POINT", "SPOT", "AREA"):
+        # An area light's KHR light is a point of the same power: the fallback for other readers.
         entry = {"type": "point", "color": color, "intensity": light.energy * WATTS_TO_LUMENS / (4 * math.pi)}
         if light.type == "SPOT":
             outer = light.spot_size / 2
             entry["type"] = "spot"
             entry["spot"] = {"outerConeAngle": outer, "innerConeAngle": outer * (1 - light.spot_blend)}
-        return entry
-    export.warn("area light", f"{light.type.lower()} lights are not carried over (dropped)")
-    return None
+    else:
+        export.warn("light type", f"{light.type.lower()} lights are not carried over (dropped)")
+        return None
+    extension = blender_lights.light_extension(light)
+    if extension is not None:
+        entry["extensions"] = {blender_lights.EXTENSION: extension}
+        if abs(extension.get("spread", math.pi) - math.pi) > 1e-3:
+            export.warn("area light spread", "area light spread other than 180 degrees is rendered as 180")
+    return entry
 
 
 def export_frame_gltf(depsgraph, path, width=None, height=None):
@@ -252,6 +256,13 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
         elif obj.type == "LIGHT":
             entry = light_entry(obj.data, export)
             if entry is not None:
+                area = entry.get("extensions", {}).get(blender_lights.EXTENSION, {})
+                if "size" in area:
+                    # The node drops scale, and Cycles scales an area light's size with its object.
+                    sx, sy = (float(np.linalg.norm(world[:3, c])) for c in (0, 1))
+                    area["size"] = [area["size"][0] * sx, area["size"][1] * sy]
+                    if abs(sx - sy) > 1e-6 * max(sx, sy):
+                        area["shape"] = {"square": "rectangle", "disk": "ellipse"}.get(area["shape"], area["shape"])
                 entry["name"] = obj.name
                 lights.append(entry)
                 add_node({"name": obj.name, "matrix": column_major(frame_matrix(world)),
@@ -277,6 +288,8 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
     if lights:
         gltf["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
         gltf["extensionsUsed"].append("KHR_lights_punctual")
+        if any("extensions" in entry for entry in lights):
+            gltf["extensionsUsed"].append(blender_lights.EXTENSION)
     gltf["accessors"], gltf["bufferViews"] = writer.accessors, writer.views
     bin_name = os.path.splitext(os.path.basename(path))[0] + ".bin"
     gltf["buffers"] = [{"uri": bin_name, "byteLength": len(writer.blob)}]

@@ -5,7 +5,8 @@
 
 Writes, in DIR:
   NAME.blend                 the scene as built (compressed), its images beside it
-  NAME.gltf, NAME.bin, ...   Blender's own glTF exporter: GLTF_SEPARATE, lights, cameras,
+  NAME.gltf, NAME.bin, ...   Blender's own glTF exporter (plus VEACH_lights_blender for the light
+                             settings it drops: plugins/blender/blender_lights.py): GLTF_SEPARATE, lights, cameras,
                              custom properties as extras, animation when the scene is animated
   NAME.cycles.exr            the Cycles reference: half floats, zip, scene-linear Rec.709, from
                              cycles_setup.unbiased_cycles() with "lambert" materials swapped for
@@ -27,6 +28,9 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# The add-on's writer of Blender's light settings (no bpy needed), used on the export as the add-on does.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "plugins", "blender"))
+import blender_lights  # noqa: E402
 import cycles_setup  # noqa: E402
 import scene_kit  # noqa: E402
 import scenes  # noqa: E402
@@ -141,6 +145,8 @@ def export_gltf(path, animated):
         export_extras=True, export_animations=animated, export_frame_range=True,
         # Applying modifiers drops shape keys in Blender 3.4's exporter: apply only without them.
         export_apply=not has_shape_keys)
+    # Area lights, point and spot radius and sun angle, which Blender's exporter drops.
+    blender_lights.write_blender_lights(path, bpy.context.scene.objects)
 
 
 def render_references(name, out, frames, animated, spp, seed, threads):
