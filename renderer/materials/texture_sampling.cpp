@@ -8,9 +8,12 @@ Vec2 apply_uv_transform(const UvTransform& t, Vec2 uv) {
     if (t.is_identity()) return uv;
     float c = std::cos(t.rotation), s = std::sin(t.rotation);
     float x = uv.x * t.scale[0], y = uv.y * t.scale[1];
-    // The extension's matrix is translation * rotation * scale with the rotation given in GLSL's
-    // column-major form as columns (cos, sin) and (-sin, cos).
-    return {c * x - s * y + t.offset[0], s * x + c * y + t.offset[1]};
+    // Translation * rotation * scale, the rotation turning UVs clockwise in the image as the
+    // angle grows: x' = c x + s y, y' = -s x + c y. The extension's GLSL listing reads the other
+    // way (a known erratum), but its own worked example (offset [0, 1], rotation pi/2, scale 0.5
+    // shows only the lower left quadrant), its sample model, three.js, Babylon.js and Blender's
+    // exporter and importer all use this direction.
+    return {c * x + s * y + t.offset[0], -s * x + c * y + t.offset[1]};
 }
 
 float uv_transform_length_scale(const UvTransform& t) {

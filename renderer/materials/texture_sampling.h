@@ -8,8 +8,8 @@
 
 namespace veach {
 
-// The texture coordinate after KHR_texture_transform (translation * rotation * scale, as the
-// extension defines the matrix).
+// The texture coordinate after KHR_texture_transform (translation * rotation * scale; the
+// rotation's direction is the one of the extension's example, not of its listing).
 Vec2 apply_uv_transform(const UvTransform& t, Vec2 uv);
 // How KHR_texture_transform scales lengths in texture space: the square root of the area scale
 // (rotation and offset preserve lengths and areas).
