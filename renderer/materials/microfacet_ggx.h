@@ -11,10 +11,14 @@ namespace veach {
 // clamped here (about 0.0032 roughness), which is indistinguishable from a mirror in an image.
 inline constexpr float k_min_ggx_alpha = 1e-5f;
 
+// D(h) = a2 / (pi (cos^2 (a2 - 1) + 1)^2), with the denominator's bracket written as
+// sin^2 + a2 cos^2 (the same for a unit h): the textbook form rounds a2 - 1 to -1 in float once
+// a2 < 3e-8 (roughness 0.0131) and then divides by zero at the peak. This one keeps full relative
+// precision for every alpha, down to k_min_ggx_alpha.
 inline float ggx_d(const Vec3& h, float alpha) {
     if (h.z <= 0.0f) return 0.0f;
     float a2 = alpha * alpha;
-    float t = h.z * h.z * (a2 - 1.0f) + 1.0f;
+    float t = (h.x * h.x + h.y * h.y) + h.z * h.z * a2;
     return a2 / (k_pi * t * t);
 }
 
