@@ -29,6 +29,11 @@ int64_t integer_field(const tinygltf::Value& object, const char* name, int64_t f
     return int64_t(d);
 }
 
+int64_t required_integer(const tinygltf::Value& object, const char* name, const std::string& what) {
+    if (!object.Has(name)) throw GltfError(what + ": " + name + " is required");
+    return integer_field(object, name, 0, what);
+}
+
 std::string string_field(const tinygltf::Value& object, const char* name, const std::string& fallback,
                          const std::string& what) {
     if (!object.Has(name)) return fallback;
@@ -42,17 +47,15 @@ void decode_view(tinygltf::Model& model, size_t view_index, const tinygltf::Valu
     if (!ext.IsObject()) throw GltfError(what + ": the extension is not an object");
     tinygltf::BufferView& view = model.bufferViews[view_index];
 
-    int64_t source_buffer = integer_field(ext, "buffer", -1, what);
-    if (source_buffer < 0 || size_t(source_buffer) >= model.buffers.size())
-        throw GltfError(what + ": buffer is missing or out of range");
+    int64_t source_buffer = required_integer(ext, "buffer", what);
+    if (size_t(source_buffer) >= model.buffers.size()) throw GltfError(what + ": buffer is out of range");
     uint64_t offset = integer_field(ext, "byteOffset", 0, what);
-    uint64_t length = integer_field(ext, "byteLength", -1, what);
-    uint64_t stride = integer_field(ext, "byteStride", -1, what);
-    uint64_t count = integer_field(ext, "count", -1, what);
+    uint64_t length = required_integer(ext, "byteLength", what);
+    uint64_t stride = required_integer(ext, "byteStride", what);
+    uint64_t count = required_integer(ext, "count", what);
     std::string mode = string_field(ext, "mode", "", what);
     std::string filter = string_field(ext, "filter", "NONE", what);
-    if (!ext.Has("byteLength") || !ext.Has("byteStride") || !ext.Has("count") || mode.empty())
-        throw GltfError(what + ": byteLength, byteStride, count and mode are required");
+    if (mode.empty()) throw GltfError(what + ": mode is required");
     const std::vector<unsigned char>& source = model.buffers[size_t(source_buffer)].data;
     if (offset > source.size() || length > source.size() - offset)
         throw GltfError(what + ": the compressed bytes lie outside buffer " + std::to_string(source_buffer));
