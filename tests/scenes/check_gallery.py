@@ -20,8 +20,8 @@ import tempfile
 import numpy as np
 import OpenImageIO as oiio
 
-LABEL_HEIGHT = 22  # scripts/gallery.py
-COLUMNS = 3
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+from gallery import COLUMNS, LABEL_HEIGHT  # noqa: E402  (the contact sheet's layout)
 
 
 def main():
@@ -45,7 +45,7 @@ def main():
                 os.path.basename(path), scene["name"], gallery["width"], gallery["height"], " ".join(scene["args"]))
             if expected not in readme:
                 failures.append("%s: README does not give the command %s" % (scene["name"], expected))
-            tiny = [a for a in scene["args"]]
+            tiny = list(scene["args"])
             k = tiny.index("--spp")
             tiny[k + 1] = "2"
             out = os.path.join(tmp, scene["name"] + ".png")
