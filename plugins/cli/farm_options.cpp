@@ -155,6 +155,14 @@ int run_merge_command(VeachDevice device, const std::vector<std::string>& args) 
             return k_usage;
         }
     }
+    // All outputs checked before the first is written: a typo in the second never leaves the
+    // first written alone.
+    for (const std::string& out : outputs) {
+        if (VeachError e = veachCheckOutput(render, out.c_str()); e != VEACH_ERROR_NONE) {
+            std::fprintf(stderr, "veach merge: %s\n", veachGetLastError());
+            return e == VEACH_ERROR_INVALID_ARGUMENT ? k_usage : k_bad_input;
+        }
+    }
     for (const std::string& out : outputs) {
         if (veachWriteImage(render, out.c_str()) != VEACH_ERROR_NONE) {
             VeachError e = veachGetLastErrorCode();

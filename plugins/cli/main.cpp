@@ -363,6 +363,40 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
     return k_ok;
 }
 
+// Every file the command will write, checked before any scene loads: a farm task with a typo in
+// an output name, a colour config name or a folder must fail in a second, not after an hour of
+// rendering. The check render belongs to an empty scene but carries the command's options, since
+// the format and the display transform depend on them; options the empty scene cannot take (a
+// camera name) are left for the real render to refuse.
+int check_outputs(VeachDevice device, const RenderCommand& cmd) {
+    static const char k_empty_gltf[] = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})";
+    SceneRef empty{veachNewSceneFromMemory(device, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr)};
+    RenderRef check{empty.h ? veachNewRender(empty.h) : nullptr};
+    if (!check.h) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return k_failure;
+    }
+    for (const ApiOption& o : cmd.render_options) apply_render_option(check.h, o);
+    auto refuse = [](VeachError e) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return e == VEACH_ERROR_INVALID_ARGUMENT ? k_usage : k_bad_input;
+    };
+    const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
+    for (const std::string& input : cmd.inputs) {
+        for (const std::string& pattern : cmd.outputs)
+            if (VeachError e = veachCheckOutput(check.h, output_path_for(pattern, input).c_str()); e != VEACH_ERROR_NONE)
+                return refuse(e);
+        if (!cmd.stats_json.empty())
+            if (VeachError e = veachCheckFile(device, output_path_for(cmd.stats_json, input).c_str());
+                e != VEACH_ERROR_NONE)
+                return refuse(e);
+        if (checkpointing)
+            if (VeachError e = veachCheckFile(device, checkpoint_path_for(cmd, input).c_str()); e != VEACH_ERROR_NONE)
+                return refuse(e);
+    }
+    return k_ok;
+}
+
 int run(int argc, char** argv) {
     std::vector<std::string> args(argv + 1, argv + argc);
     if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
@@ -399,6 +433,7 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "veach: %s (try 'veach --help')\n", e.what());
         return k_usage;
     }
+    if (int rc = check_outputs(device.h, cmd); rc != k_ok) return rc;
     install_stop_handlers();
     int worst = k_ok;
     for (const std::string& input : cmd.inputs) {

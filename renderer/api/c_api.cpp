@@ -238,4 +238,13 @@ VEACH_API VeachError veachWriteFile(VeachDevice device, const char* path, const 
     });
 }
 
+VEACH_API VeachError veachCheckFile(VeachDevice device, const char* path) {
+    return guarded<VeachError>(device, VEACH_ERROR_OUTPUT, [&] {
+        if (!device) throw veach::capi::invalid("veachCheckFile: null device");
+        if (!path || !*path) throw veach::capi::invalid("veachCheckFile: empty path");
+        veach::check_writable(path);
+        return VEACH_ERROR_NONE;
+    });
+}
+
 }  // extern "C"

@@ -16,6 +16,8 @@
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
+#include "output/atomic_file.h"
+#include "output/display_transform.h"
 
 using veach::capi::ApiError;
 using veach::capi::guarded;
@@ -711,6 +713,39 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
                 o[3] = 1.0f;
             }
         }
+        return VEACH_ERROR_NONE;
+    });
+}
+
+VEACH_API VeachError veachCheckOutput(VeachRender render, const char* path) {
+    return guarded<VeachError>(device_of(render), VEACH_ERROR_OUTPUT, [&] {
+        check_render(render, "veachCheckOutput");
+        if (!path || !*path) throw invalid("veachCheckOutput: empty path");
+        veach::OutputSettings settings;
+        {
+            std::lock_guard<std::mutex> lock(render->m_mutex);
+            settings = render->m_output;
+        }
+        const std::string p(path);
+        if (!is_part_path(p)) {
+            if (!veach::is_known_image_format(p)) {
+                const size_t slash = p.find_last_of('/'), dot = p.find_last_of('.');
+                const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+                throw invalid(p + ": unknown image format " +
+                              (has_ext ? "'" + p.substr(dot) + "'" : std::string("(no extension)")) +
+                              " (known: .exr .hdr .png .jpg .tif .vpart)");
+            }
+            // The display transform is what veachWriteImage builds for these formats: building it
+            // now finds a display, view or look the colour config lacks.
+            if (!veach::is_scene_linear_format(p)) {
+                try {
+                    veach::DisplayTransform transform(settings.display);
+                } catch (const veach::OutputError& e) {
+                    throw invalid(p + ": " + e.what());
+                }
+            }
+        }
+        veach::check_writable(p);
         return VEACH_ERROR_NONE;
     });
 }

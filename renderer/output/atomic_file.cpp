@@ -184,4 +184,10 @@ void write_file_atomically(const std::string& path, const void* data, size_t siz
     file.commit();
 }
 
+void check_writable(const std::string& path) {
+    struct stat st {};
+    if (!path.empty() && ::lstat(path.c_str(), &st) == 0 && (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode))) return;
+    AtomicFile probe(path);  // never committed: its destructor removes the temporary file
+}
+
 }  // namespace veach

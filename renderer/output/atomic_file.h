@@ -57,4 +57,11 @@ private:
 // One buffer written through AtomicFile.
 void write_file_atomically(const std::string& path, const void* data, size_t size);
 
+// Throws the OutputError that AtomicFile(path) would, without writing anything: the folder
+// exists and a temporary file can really be created in it (created and removed again, since
+// permission bits say nothing for root and nothing about a read-only mount), and the target is
+// not a folder or other unwritable kind. A device or FIFO target passes (a FIFO's reader may
+// come later). For checking a render's outputs before spending the render's time.
+void check_writable(const std::string& path);
+
 }  // namespace veach

@@ -721,3 +721,33 @@ TEST_F(CApi, ErrorCallbackCallingAFailingFunctionDoesNotRecurse) {
 }
 
 }  // namespace
+
+// Outputs are checked before rendering: what veachWriteImage would refuse (format, colour config
+// names, folder) is refused by veachCheckOutput on a render that never ran, and nothing is left
+// in the folder by the check.
+TEST_F(CApi, OutputsCheckedWithoutRendering) {
+    auto dir = std::filesystem::temp_directory_path() / ("veach_capi_check_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    VeachScene scene = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(scene, nullptr) << veachGetLastError();
+    VeachRender r = new_cornell_render(scene);
+    const std::string png = (dir / "a.png").string();
+    EXPECT_EQ(veachCheckOutput(r, png.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_EQ(veachCheckOutput(r, (dir / "a.exr").string().c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_EQ(veachCheckOutput(r, (dir / "a.vpart").string().c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_REFUSED(veachCheckOutput(r, (dir / "a.xyz").string().c_str()), VEACH_ERROR_INVALID_ARGUMENT, "'.xyz'");
+    EXPECT_REFUSED(veachCheckOutput(r, (dir / "none" / "a.exr").string().c_str()), VEACH_ERROR_OUTPUT, "none");
+    EXPECT_REFUSED(veachCheckOutput(r, dir.string().c_str()), VEACH_ERROR_INVALID_ARGUMENT, "unknown image format");
+    ASSERT_EQ(veachSetString(r, "view", "No Such View"), VEACH_ERROR_NONE);
+    EXPECT_REFUSED(veachCheckOutput(r, png.c_str()), VEACH_ERROR_INVALID_ARGUMENT, "No Such View");
+    EXPECT_EQ(veachCheckOutput(r, (dir / "a.exr").string().c_str()), VEACH_ERROR_NONE)  // scene-linear: no view
+        << veachGetLastError();
+    EXPECT_EQ(veachCheckFile(m_device, (dir / "stats.json").string().c_str()), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachCheckFile(m_device, "/dev/null"), VEACH_ERROR_NONE);
+    EXPECT_REFUSED(veachCheckFile(m_device, (dir / "none" / "s.json").string().c_str()), VEACH_ERROR_OUTPUT, "none");
+    EXPECT_REFUSED(veachCheckFile(m_device, dir.string().c_str()), VEACH_ERROR_OUTPUT, "is a folder");
+    EXPECT_TRUE(std::filesystem::is_empty(dir));  // no probe file left, nothing rendered or written
+    veachReleaseRender(r);
+    veachReleaseScene(scene);
+    std::filesystem::remove_all(dir);
+}

@@ -31,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 4
+#define VEACH_VERSION_MINOR 5
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -116,6 +116,12 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
  * device or FIFO (/dev/stdout) is written in place. For a host's own sidecar files (the veach
  * command's --stats-json). */
 VEACH_API VeachError veachWriteFile(VeachDevice device, const char* path, const void* data, size_t size);
+/* Whether veachWriteFile(device, path, ...) could write `path`, without writing it (since 0.5):
+ * its folder exists and a file can really be created in it (one is created and removed at once:
+ * permission bits say nothing for root or about a read-only mount), and `path` is not a folder.
+ * An existing device or FIFO passes. VEACH_ERROR_OUTPUT with one line naming the file otherwise.
+ * For checking a host's sidecar files (stats, checkpoints) before a render spends its time. */
+VEACH_API VeachError veachCheckFile(VeachDevice device, const char* path);
 
 /* ---- Scenes: imported once, immutable, shared by any number of renders -------------------- */
 
@@ -246,6 +252,14 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
  * the render's identity (a hash of every image-shaping setting and of the content, never the
  * path, of every file the scene read), zlib-compressed with a CRC. */
 VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
+/* Whether veachWriteImage(render, path) could write `path` with the render's current options,
+ * without rendering or writing anything (since 0.5), so that a farm task refuses a typo at once
+ * instead of after an hour of rendering: VEACH_ERROR_INVALID_ARGUMENT for an unknown format
+ * (extension) and, for PNG/JPEG/TIFF, a display, view or look the OpenColorIO config lacks (or a
+ * config that cannot be read); VEACH_ERROR_OUTPUT when the folder does not exist or no file can
+ * be created in it (as veachCheckFile) or `path` is a folder. Works on a render that has not run,
+ * even one of an empty scene. One line naming the file either way. */
+VEACH_API VeachError veachCheckOutput(VeachRender render, const char* path);
 
 /* ---- Part files: renders split across machines (since 0.4) -------------------------------- */
 

@@ -96,6 +96,8 @@ public:
         detail::check(veachGetDeviceInt(m_h, name, &v));
         return v;
     }
+    // Throws when `path` could not be written as veachWriteFile writes (folder missing or not writable).
+    void check_file(const std::string& path) const { detail::check(veachCheckFile(m_h, path.c_str())); }
     // e.g. "integrators", "color_displays": one item a line.
     std::string get_string(const char* name) const {
         return detail::get_string(
@@ -232,6 +234,9 @@ public:
         return pixels;
     }
     void write_image(const std::string& path) const { detail::check(veachWriteImage(m_h, path.c_str())); }
+    // Throws when write_image(path) could not write it with these options (format, colour
+    // config names, folder): checked before rendering.
+    void check_output(const std::string& path) const { detail::check(veachCheckOutput(m_h, path.c_str())); }
 
 private:
     static bool progress_trampoline(void* user, double fraction, double eta) {
