@@ -14,7 +14,7 @@ Writes, in DIR:
   NAME.cycles.json           spp, seed, width, height, seconds (Cycles' render time, all frames),
                              frames, Blender's version, and the veach arguments the scene needs
 --spp defaults to the scene's SPP; --spp 0 builds and exports only. --frames defaults to the
-scene's FRAMES (frame 1 for a still scene; a still scene accepts no other frame). --width and
+scene's REFERENCE_FRAMES, else every frame of its FRAMES (frame 1 for a still scene; a still scene accepts no other frame). --width and
 --height default to the scene's RESOLUTION (one alone keeps its aspect ratio). The scenes are
 the modules in scripts/blender/scenes (see tests/data/scenes/README.md to add one).
 Exit codes: 0 done, 2 bad arguments (one line on stderr), 1 anything else that failed.
@@ -184,7 +184,7 @@ def main(argv):
     definition.build()
     animated = scene_kit.is_animated()
     first, last = getattr(definition, "FRAMES", (1, 1))
-    frames = args.frames or list(range(first, last + 1))
+    frames = args.frames or list(getattr(definition, "REFERENCE_FRAMES", range(first, last + 1)))
     if not animated and frames != [1]:
         raise BadArguments("scene '%s' is not animated: it has frame 1 only" % args.scene)
     if animated:

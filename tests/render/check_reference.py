@@ -1,8 +1,10 @@
 #!/usr/bin/python3
-"""check_reference.py --veach BIN --scenes DIR --scene NAME [--spp N] [--integrator I] [--mean-tol T] [--block-tol T]
+"""check_reference.py --veach BIN --scenes DIR --scene NAME [--spp N] [--integrator I] [--frame N]
+                      [--mean-tol T] [--block-tol T] [--extra ARGS]
 
 Renders SCENES/NAME/NAME.gltf (tests/data/scenes) at the reference's resolution and compares it
-with the Cycles reference beside it in tests/tools/image_compare.py's measures: every channel's
+with the Cycles reference beside it (with --frame N, an animated scene's NAME.cycles.NNNN.exr,
+rendered by `veach render --frame N`) in tests/tools/image_compare.py's measures: every channel's
 mean within --mean-tol (relative), every lit 16x16 block mean within --block-tol, no non-finite
 value. Exit 0 pass, 1 fail."""
 import argparse, json, os, subprocess, sys, tempfile
@@ -15,6 +17,7 @@ ap.add_argument("--spp", type=int, default=256)
 ap.add_argument("--integrator", default="pt")
 ap.add_argument("--mean-tol", type=float, default=0.02)
 ap.add_argument("--block-tol", type=float, default=0.05)
+ap.add_argument("--frame", type=int, help="an animated scene's frame: its reference and `--frame N`")
 ap.add_argument("--extra", default="", help="more veach arguments, space separated")
 a = ap.parse_args()
 # Sanitizer builds (make test-sanitize) divide sample counts and widen tolerances by sqrt of it.
@@ -30,17 +33,24 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import image_compare as compare  # noqa: E402  (tests/tools/image_compare.py)
 
 meta = json.load(open(os.path.join(scene_dir, a.scene + ".cycles.json")))
+reference = os.path.join(scene_dir, a.scene + ".cycles.exr")
+if a.frame is not None:
+    if a.frame not in meta["frames"]:
+        sys.exit("check_reference: %s has no reference at frame %d (frames %s)" % (a.scene, a.frame, meta["frames"]))
+    reference = os.path.join(scene_dir, "%s.cycles.%04d.exr" % (a.scene, a.frame))
 with tempfile.TemporaryDirectory() as tmp:
     out = os.path.join(tmp, a.scene + ".exr")
     cmd = [a.veach, "render", os.path.join(scene_dir, a.scene + ".gltf"), "-o", out,
            "--width", str(meta["width"]), "--height", str(meta["height"]), "--spp", str(a.spp),
            "--integrator", a.integrator, "--quiet", "--stats-json", os.path.join(tmp, "stats.json")]
+    if a.frame is not None:
+        cmd += ["--frame", str(a.frame)]
     cmd += a.extra.split()
     subprocess.run(cmd, check=True)
-    res = compare.compare(compare.load(out), compare.load(os.path.join(scene_dir, a.scene + ".cycles.exr")))
+    res = compare.compare(compare.load(out), compare.load(reference))
     stats = json.load(open(os.path.join(tmp, "stats.json")))
-print("%s %s %d spp: relmse %.5f mean %s blocks %.4f nonfinite %d (dropped samples %d)" % (
-    a.scene, a.integrator, a.spp, res["relmse"], " ".join("%.4f" % m for m in res["mean"]), res["blocks"],
+print("%s%s %s %d spp: relmse %.5f mean %s blocks %.4f nonfinite %d (dropped samples %d)" % (
+    a.scene, "" if a.frame is None else " frame %d" % a.frame, a.integrator, a.spp, res["relmse"], " ".join("%.4f" % m for m in res["mean"]), res["blocks"],
     res["nonfinite"], stats["nonfinite_samples"]))
 ok = True
 for c, m in zip("RGB", res["mean"]):

@@ -5,7 +5,9 @@ A scene module has a docstring saying what the scene exercises and:
                 the render resolution is already set, so the camera's aspect follows it
   RESOLUTION    (width, height) of its references, which is what the tests render at
   SPP           samples per pixel of its Cycles reference
-  FRAMES        optional (first, last): the frames an animated scene is rendered at by default
+  FRAMES        optional (first, last): an animated scene's frame range, every frame of which
+                its references are rendered at by default
+  REFERENCE_FRAMES optional tuple of frames within FRAMES: the only frames rendered by default
   BLEND_SAMPLES optional: the .blend is saved with the reference's Cycles settings at this many
                 samples (what the Blender add-on, following Cycles' settings, renders it with)
   VEACH_ARGS    optional list of `veach render` arguments needed to see what Cycles sees (the
