@@ -24,10 +24,18 @@ enum class SpotProfile : uint8_t {
     Blender,
 };
 
+// What a primitive without a material renders as.
+enum class DefaultMaterial : uint8_t {
+    Auto,     // Cycles' default surface when asset.generator names Blender, glTF's otherwise
+    Gltf,     // the glTF spec's default: white, metallic 1, roughness 1
+    Blender,  // Cycles' default surface: Lambertian, albedo 0.8 (what Blender shows and its importer makes)
+};
+
 struct ImportOptions {
     int scene_index = -1;  // -1: the file's default scene (or the first)
     std::string variant;   // KHR_materials_variants name, empty = default materials
     SpotProfile spot_profile = SpotProfile::Auto;
+    DefaultMaterial default_material = DefaultMaterial::Auto;
     bool allow_external_files = false;  // URIs outside the file's folder
 };
 

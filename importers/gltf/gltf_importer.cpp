@@ -415,6 +415,8 @@ private:
     size_t m_visits = 0;
     std::vector<LightDef> m_lights;
     SpotFalloff m_spot_falloff = SpotFalloff::Gltf;
+    bool m_blender_default_material = false;  // material-less primitives get Cycles' default surface
+    int32_t m_blender_default_slot = -1;      // its Scene::materials index, made on first use
     int m_variant = -1;  // KHR_materials_variants index chosen by ImportOptions::variant
     size_t m_skipped_line_primitives = 0, m_dropped_triangles = 0;
     std::set<int> m_draco_indices;  // index accessors given a placeholder bufferView for tinygltf
@@ -491,6 +493,16 @@ void GltfImporter::check_extensions() {
             // Blender writes cone angles for its own spot profile, which differs from glTF's.
             m_spot_falloff =
                 m_model.asset.generator.find("Blender") != std::string::npos ? SpotFalloff::Blender : SpotFalloff::Gltf;
+            break;
+    }
+    // An object without a material is Cycles' default surface in Blender (and after Blender's
+    // own glTF import, which makes no material for it), not the spec's white rough metal: a
+    // Blender export renders as Blender showed it.
+    switch (m_options.default_material) {
+        case DefaultMaterial::Blender: m_blender_default_material = true; break;
+        case DefaultMaterial::Gltf: m_blender_default_material = false; break;
+        case DefaultMaterial::Auto:
+            m_blender_default_material = m_model.asset.generator.find("Blender") != std::string::npos;
             break;
     }
 }
@@ -815,6 +827,12 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
             throw GltfError(what + ": material " + std::to_string(material_index) + " does not exist (the file has " +
                             std::to_string(m_model.materials.size()) + ")");
         mesh.material = m_materials->material(material_index);
+    } else if (m_blender_default_material) {
+        if (m_blender_default_slot < 0) {
+            m_blender_default_slot = static_cast<int32_t>(m_scene.materials.size());
+            m_scene.materials.push_back(Scene::blender_default_material());
+        }
+        mesh.material = m_blender_default_slot;
     }
     if (m_scene.material_of(mesh).is_emissive()) m_scene.features.emissive_meshes = true;
     if (!mesh.colors.empty()) m_scene.features.vertex_colors = true;

@@ -74,7 +74,7 @@ class VeachRenderEngine(bpy.types.RenderEngine):
                 self.update_stats("", "Veach | Exporting the scene")
                 path = os.path.join(tmp, "frame.gltf")
                 export = gltf_export.export_frame_gltf(depsgraph, path, width, height)
-                options = {"spot_falloff": "blender", "allow_external_files": 1}
+                options = {"spot_falloff": "blender", "default_material": "blender", "allow_external_files": 1}
                 options.update(world.environment_options(scene.world, export, tmp))
                 if scene.render.film_transparent:
                     export.warn("film transparent", "Film > Transparent is not carried over (the background "

@@ -40,6 +40,9 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --camera NAME|INDEX     camera to render (default: the first)
   --scene N               glTF scene index (default: the file's default scene)
   --spot-falloff MODE     auto (default), blender or gltf: the spot cone profile
+  --default-material MODE auto (default), blender or gltf: what an object without a material
+                          is (blender: Cycles' default surface, Lambertian 0.8; gltf: the
+                          spec's white rough metal; auto: blender for Blender's exports)
   --variant NAME          KHR_materials_variants: render with this variant's materials
   --allow-external-files  let URIs point outside the glTF's folder
   --env FILE              environment map: equirectangular (lat-long) HDR/EXR, Blender's mapping
@@ -270,6 +273,10 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             const std::string& v = value();
             scene_opt(string_option("spot_falloff", v),
                       "--spot-falloff expects auto, blender or gltf, not '" + v + "'");
+        } else if (a == "--default-material") {
+            const std::string& v = value();
+            scene_opt(string_option("default_material", v),
+                      "--default-material expects auto, blender or gltf, not '" + v + "'");
         } else if (a == "--allow-external-files")
             scene_opt(int_option("allow_external_files", 1), {});
         else if (a == "--variant")

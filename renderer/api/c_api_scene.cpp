@@ -1,5 +1,5 @@
 // The C API's scenes: options that shape a scene before it is loaded (glTF scene index, variant,
-// spot profile, environment), the one load, and what the load found (triangles, repairs,
+// spot profile, default material, environment), the one load, and what the load found (triangles, repairs,
 // features, warnings).
 //
 // Why the options belong to the scene and not to a render: a scene is imported once and shared
@@ -49,7 +49,7 @@ const OptionTable k_options{"scene option",
                              "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
                              "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
                             {"env_strength", "env_rotate"},
-                            {"variant", "spot_falloff", "env_map", "env_color", "source", "features", "warnings"}};
+                            {"variant", "spot_falloff", "default_material", "env_map", "env_color", "source", "features", "warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
@@ -81,6 +81,14 @@ const char* spot_name(veach::SpotProfile p) {
     }
 }
 
+const char* default_material_name(veach::DefaultMaterial m) {
+    switch (m) {
+        case veach::DefaultMaterial::Blender: return "blender";
+        case veach::DefaultMaterial::Gltf: return "gltf";
+        default: return "auto";
+    }
+}
+
 // Every scene option, and the environment map's content (never its path), for the identity of
 // checkpoints and part files (core/content_hash.h).
 uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash) {
@@ -90,6 +98,7 @@ uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash) {
         .field("scene", s.m_import.scene_index)
         .field("variant", s.m_import.variant)
         .field("spot", spot_name(s.m_import.spot_profile))
+        .field("default_material", default_material_name(s.m_import.default_material))
         .field("env_map", !env.map_path.empty())
         .field("env_has_color", env.has_color)
         .field("env_r", env.color.r)
@@ -274,6 +283,15 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
                 scene->m_import.spot_profile = veach::SpotProfile::Gltf;
             else
                 throw invalid("scene option 'spot_falloff' expects auto, blender or gltf, not '" + v + "'");
+        } else if (n == "default_material") {
+            if (v == "auto")
+                scene->m_import.default_material = veach::DefaultMaterial::Auto;
+            else if (v == "blender")
+                scene->m_import.default_material = veach::DefaultMaterial::Blender;
+            else if (v == "gltf")
+                scene->m_import.default_material = veach::DefaultMaterial::Gltf;
+            else
+                throw invalid("scene option 'default_material' expects auto, blender or gltf, not '" + v + "'");
         } else if (n == "env_map") {
             if (!v.empty() && env.has_color)
                 throw invalid("scene options 'env_map' and 'env_color' exclude each other");
@@ -363,6 +381,8 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
             value = scene->m_import.variant;
         else if (n == "spot_falloff")
             value = spot_name(scene->m_import.spot_profile);
+        else if (n == "default_material")
+            value = default_material_name(scene->m_import.default_material);
         else if (n == "env_map")
             value = scene->m_environment.map_path;
         else if (n == "env_color")

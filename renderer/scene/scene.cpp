@@ -30,6 +30,16 @@ const Material& Scene::default_material() {
     return m;
 }
 
+Material Scene::blender_default_material() {
+    Material m;
+    m.name = "Cycles default surface";
+    m.base_color = Rgb(0.8f);
+    m.metallic = 0;
+    m.roughness = 1;
+    m.specular = 0;
+    return m;
+}
+
 const Material& Scene::material_of(const Mesh& mesh) const {
     if (mesh.material >= 0 && static_cast<size_t>(mesh.material) < materials.size()) return materials[mesh.material];
     return default_material();

@@ -223,6 +223,10 @@ struct Scene {
     size_t triangle_count() const;  // instanced triangles, counted per instance
     const Material& material_of(const Mesh& mesh) const;
     static const Material& default_material();
+    // Cycles' default surface (a diffuse BSDF of colour 0.8, roughness 0), as a glTF material:
+    // base colour 0.8, metallic 0, KHR_materials_specular 0, which GltfBsdf evaluates as exactly
+    // Lambertian.
+    static Material blender_default_material();
 };
 
 }  // namespace veach

@@ -431,6 +431,8 @@ TEST_F(CApi, SceneOptionsAreCheckedAndFrozenByTheLoad) {
     ASSERT_NE(s, nullptr);
     EXPECT_REFUSED(veachSetSceneString(s, "spot_falloff", "cone"), VEACH_ERROR_INVALID_ARGUMENT,
                    "auto, blender or gltf");
+    EXPECT_REFUSED(veachSetSceneString(s, "default_material", "grey"), VEACH_ERROR_INVALID_ARGUMENT,
+                   "auto, blender or gltf");
     EXPECT_REFUSED(veachSetSceneString(s, "env_color", "1,2"), VEACH_ERROR_INVALID_ARGUMENT, "R,G,B");
     EXPECT_REFUSED(veachSetSceneString(s, "env_color", "1,-2,3"), VEACH_ERROR_INVALID_ARGUMENT, "R,G,B");
     EXPECT_REFUSED(veachSetSceneFloat(s, "env_strength", -1), VEACH_ERROR_INVALID_ARGUMENT, "env_strength");
@@ -449,11 +451,14 @@ TEST_F(CApi, SceneOptionsAreCheckedAndFrozenByTheLoad) {
     long long v = 0;
     EXPECT_EQ(veachGetSceneInt(s, "triangles", &v), VEACH_ERROR_INVALID_OPERATION);
     EXPECT_EQ(veachSetSceneString(s, "spot_falloff", "blender"), VEACH_ERROR_NONE);
+    EXPECT_EQ(scene_string(s, "default_material"), "auto");
+    EXPECT_EQ(veachSetSceneString(s, "default_material", "gltf"), VEACH_ERROR_NONE);
     ASSERT_EQ(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
     // Loaded: options are frozen, a second load is refused, results are there.
     EXPECT_REFUSED(veachSetSceneString(s, "variant", "x"), VEACH_ERROR_INVALID_OPERATION, "loaded");
     EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_INVALID_OPERATION, "loaded");
     EXPECT_EQ(scene_string(s, "spot_falloff"), "blender");
+    EXPECT_EQ(scene_string(s, "default_material"), "gltf");
     EXPECT_EQ(scene_string(s, "env_color"), "0.5,0.25,1");
     EXPECT_EQ(scene_string(s, "source"), k_cornell);
     EXPECT_EQ(veachGetSceneInt(s, "cameras", &v), VEACH_ERROR_NONE);

@@ -393,6 +393,43 @@ TEST(GltfImporter, BlenderLightExtensionGivesAreaLightsRadiusAndSunAngle) {
     EXPECT_EQ(count_warnings(s, "spread of 57 degrees is not supported"), 1u);
 }
 
+// A primitive without a material: Cycles' default surface (Lambertian 0.8) in Blender's exports,
+// as Blender shows the object; the spec's default (white, metallic 1, roughness 1) otherwise.
+TEST(GltfImporter, DefaultMaterialFollowsGeneratorUnlessForced) {
+    auto scene = [](const std::string& generator) {
+        GltfBuilder b;
+        b.doc["asset"]["generator"] = generator;
+        b.place(b.triangle_mesh());
+        b.place(b.triangle_mesh());
+        return b;
+    };
+    auto is_cycles_default = [](const Scene& s, const Mesh& m) {
+        const Material& mat = s.material_of(m);
+        return mat.base_color.r == 0.8f && mat.base_color.g == 0.8f && mat.base_color.b == 0.8f &&
+               mat.metallic == 0.0f && mat.specular == 0.0f && !mat.is_emissive() && mat.transmission == 0.0f;
+    };
+    auto is_gltf_default = [](const Scene& s, const Mesh& m) {
+        const Material& mat = s.material_of(m);
+        return m.material == -1 && mat.base_color.r == 1.0f && mat.metallic == 1.0f && mat.roughness == 1.0f &&
+               mat.specular == 1.0f;
+    };
+    Scene blender = load(scene("Khronos glTF Blender I/O v3.4.50"));
+    ASSERT_EQ(blender.meshes.size(), 2u);
+    EXPECT_TRUE(is_cycles_default(blender, blender.meshes[0]));
+    EXPECT_EQ(blender.meshes[0].material, blender.meshes[1].material);  // one material for all of them
+    EXPECT_EQ(blender.materials.size(), 1u);
+    Scene other = load(scene("Some Other Tool"));
+    EXPECT_TRUE(is_gltf_default(other, other.meshes[0]));
+    EXPECT_TRUE(other.materials.empty());
+    ImportOptions forced;
+    forced.default_material = DefaultMaterial::Gltf;
+    Scene b_gltf = load(scene("Khronos glTF Blender I/O"), forced);
+    EXPECT_TRUE(is_gltf_default(b_gltf, b_gltf.meshes[0]));
+    forced.default_material = DefaultMaterial::Blender;
+    Scene o_blender = load(scene("Some Other Tool"), forced);
+    EXPECT_TRUE(is_cycles_default(o_blender, o_blender.meshes[0]));
+}
+
 TEST(GltfImporter, SpotFalloffFollowsGeneratorUnlessForced) {
     EXPECT_EQ(load(light_scene("Khronos glTF Blender I/O v3.4.50")).lights.at(2).falloff, SpotFalloff::Blender);
     EXPECT_EQ(load(light_scene("Some Other Tool")).lights.at(2).falloff, SpotFalloff::Gltf);

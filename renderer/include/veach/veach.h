@@ -139,7 +139,9 @@ VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* dat
  *   float:  env_strength (>= 0, default 1), env_rotate (degrees about +Y, as a Mapping node's Z
  *           rotation in Blender's world shader)
  *   string: variant (KHR_materials_variants; an unknown name fails the load, listing the file's),
- *           spot_falloff ("auto", "blender", "gltf"), env_map (an equirectangular image file;
+ *           spot_falloff ("auto", "blender", "gltf"), default_material ("auto", "blender", "gltf":
+ *           what a primitive without a material is; auto: Cycles' default surface, Lambertian 0.8,
+ *           when asset.generator names Blender, else the glTF spec's default), env_map (an equirectangular image file;
  *           unreadable fails the load with VEACH_ERROR_BAD_INPUT), env_color ("R,G,B": a uniform
  *           linear radiance; excludes env_map)
  * After loading, read-only: int triangles, cameras and what scene repair changed
