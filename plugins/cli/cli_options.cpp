@@ -66,7 +66,8 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --quality Q             JPEG quality 1-100 (default 95)
   --bits 8|16             PNG/TIFF bit depth (default 8)
   --stats-json FILE       write render statistics as JSON
-  --skip-existing         skip inputs whose outputs all exist (batch reruns)
+  --skip-existing         skip inputs whose outputs are complete (veach:complete yes, the
+                          same spp, sample range and tile; an interrupted one is rendered again)
   --checkpoint SECONDS    keep OUTPUT.checkpoint up to date (at the first pass boundary after
                           SECONDS; 0 every pass) so that a killed render can resume
   --resume                continue from OUTPUT.checkpoint when it exists (same settings; spp

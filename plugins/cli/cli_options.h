@@ -32,7 +32,7 @@ struct RenderCommand {
     std::vector<ApiOption> render_options;  // veachSet*: on each input's render
     std::string stats_json;
     bool quiet = false;
-    bool skip_existing = false;      // skip inputs whose outputs all exist
+    bool skip_existing = false;      // skip inputs whose outputs are all complete
     double checkpoint_seconds = -1;  // --checkpoint: < 0 none, else the interval (0: every pass)
     bool resume = false;             // --resume: continue from the checkpoint when there is one
 };

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -231,7 +232,41 @@ VeachStatus render_and_watch(VeachRender render) {
     }
 }
 
-int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input) {
+// Whether `path` already holds what this render would write, complete: its metadata (read back
+// by the library, for images and part files alike) says veach:complete yes (a part file holds
+// only finished samples), the --spp asked for, and the same sample range and pixel bounds. An
+// image a killed or time-limited render left behind is rendered again (and resumed, with
+// --resume, from its checkpoint); a file that cannot be read counts as missing.
+bool output_complete(VeachDevice device, VeachRender options, const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return false;
+    size_t length = 0;
+    if (veachReadImageMetadata(device, path.c_str(), nullptr, 0, &length) != VEACH_ERROR_NONE) return false;
+    std::string text(length + 1, '\0');
+    veachReadImageMetadata(device, path.c_str(), text.data(), text.size(), &length);
+    text.resize(length);
+    std::map<std::string, std::string> meta;
+    for (const std::string& line : split_lines(text)) {
+        size_t eq = line.find('=');
+        if (eq != std::string::npos) meta[line.substr(0, eq)] = line.substr(eq + 1);
+    }
+    auto value = [&](const char* key) {
+        auto it = meta.find(key);
+        return it == meta.end() ? std::string() : it->second;
+    };
+    const long long spp = render_int(options, "spp");
+    const long long begin = render_int(options, "sample_begin");
+    const long long end = render_int(options, "sample_end") > 0 ? render_int(options, "sample_end") : spp;
+    const bool part_file = path.size() >= 6 && path.compare(path.size() - 6, 6, ".vpart") == 0;
+    if (!part_file && value("veach:complete") != "yes") return false;
+    if (value("veach:spp_requested") != std::to_string(spp) || value("veach:spp") != std::to_string(end - begin))
+        return false;
+    const std::string samples = value("veach:samples").empty() ? "0:" + value("veach:spp") : value("veach:samples");
+    return samples == std::to_string(begin) + ":" + std::to_string(end) &&
+           value("veach:pixelbounds") == render_string(options, "pixelbounds");
+}
+
+int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachRender options) {
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a, clock::time_point b) {
         return std::chrono::duration<double>(b - a).count();
@@ -239,11 +274,10 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
     Timings t;
     if (cmd.skip_existing) {
         bool all = true;
-        std::error_code ec;
         for (const std::string& pattern : cmd.outputs)
-            all = all && std::filesystem::exists(output_path_for(pattern, input), ec);
+            all = all && output_complete(device, options, output_path_for(pattern, input));
         if (all) {
-            if (!cmd.quiet) std::fprintf(stderr, "veach: %s: skipped, its output exists\n", input.c_str());
+            if (!cmd.quiet) std::fprintf(stderr, "veach: %s: skipped, its outputs are complete\n", input.c_str());
             return k_ok;
         }
     }
@@ -363,20 +397,26 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
     return k_ok;
 }
 
+// A render of an empty scene carrying the command's render options: what the outputs should be
+// (format, display transform, spp, sample range) is known before any scene loads. Options the
+// empty scene cannot take (a camera name) are left for the real render to refuse.
+struct OptionsRender {
+    SceneRef scene;
+    RenderRef render;
+};
+bool make_options_render(VeachDevice device, const RenderCommand& cmd, OptionsRender& out) {
+    static const char k_empty_gltf[] = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})";
+    out.scene.h = veachNewSceneFromMemory(device, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr);
+    out.render.h = out.scene.h ? veachNewRender(out.scene.h) : nullptr;
+    if (!out.render.h) return false;
+    for (const ApiOption& o : cmd.render_options) apply_render_option(out.render.h, o);
+    return true;
+}
+
 // Every file the command will write, checked before any scene loads: a farm task with a typo in
 // an output name, a colour config name or a folder must fail in a second, not after an hour of
-// rendering. The check render belongs to an empty scene but carries the command's options, since
-// the format and the display transform depend on them; options the empty scene cannot take (a
-// camera name) are left for the real render to refuse.
-int check_outputs(VeachDevice device, const RenderCommand& cmd) {
-    static const char k_empty_gltf[] = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})";
-    SceneRef empty{veachNewSceneFromMemory(device, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr)};
-    RenderRef check{empty.h ? veachNewRender(empty.h) : nullptr};
-    if (!check.h) {
-        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
-        return k_failure;
-    }
-    for (const ApiOption& o : cmd.render_options) apply_render_option(check.h, o);
+// rendering.
+int check_outputs(VeachDevice device, const RenderCommand& cmd, VeachRender check) {
     auto refuse = [](VeachError e) {
         std::fprintf(stderr, "veach: %s\n", veachGetLastError());
         return e == VEACH_ERROR_INVALID_ARGUMENT ? k_usage : k_bad_input;
@@ -384,7 +424,7 @@ int check_outputs(VeachDevice device, const RenderCommand& cmd) {
     const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
     for (const std::string& input : cmd.inputs) {
         for (const std::string& pattern : cmd.outputs)
-            if (VeachError e = veachCheckOutput(check.h, output_path_for(pattern, input).c_str()); e != VEACH_ERROR_NONE)
+            if (VeachError e = veachCheckOutput(check, output_path_for(pattern, input).c_str()); e != VEACH_ERROR_NONE)
                 return refuse(e);
         if (!cmd.stats_json.empty())
             if (VeachError e = veachCheckFile(device, output_path_for(cmd.stats_json, input).c_str());
@@ -433,12 +473,17 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "veach: %s (try 'veach --help')\n", e.what());
         return k_usage;
     }
-    if (int rc = check_outputs(device.h, cmd); rc != k_ok) return rc;
+    OptionsRender options;
+    if (!make_options_render(device.h, cmd, options)) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return k_failure;
+    }
+    if (int rc = check_outputs(device.h, cmd, options.render.h); rc != k_ok) return rc;
     install_stop_handlers();
     int worst = k_ok;
     for (const std::string& input : cmd.inputs) {
         if (g_cancel.load()) return k_interrupted;
-        int rc = render_one(device.h, cmd, input);
+        int rc = render_one(device.h, cmd, input, options.render.h);
         if (rc == k_interrupted) return k_interrupted;
         worst = std::max(worst, rc);
     }

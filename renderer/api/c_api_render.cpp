@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
@@ -717,6 +718,44 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
     });
 }
 
+VEACH_API VeachError veachReadImageMetadata(VeachDevice device, const char* path, char* buffer, size_t size,
+                                            size_t* length) {
+    return guarded<VeachError>(device, VEACH_ERROR_BAD_INPUT, [&] {
+        if (!device) throw invalid("veachReadImageMetadata: null device");
+        if (!path || !*path) throw invalid("veachReadImageMetadata: empty path");
+        std::map<std::string, std::string> meta;
+        const std::string p(path);
+        if (is_part_path(p)) {
+            // The keys an image of the same part would carry (veachWriteImage's rules), so that a
+            // host compares a part file and an image alike.
+            const veach::PartInfo info = veach::read_film_part_info(p);
+            meta["veach:spp"] = std::to_string(info.sample_end - info.sample_begin);
+            meta["veach:spp_requested"] = std::to_string(info.spp);
+            const bool full_frame = info.x0 == 0 && info.y0 == 0 && info.x1 == info.width && info.y1 == info.height;
+            if (info.sample_begin != 0 || !full_frame)
+                meta["veach:samples"] = std::to_string(info.sample_begin) + ":" + std::to_string(info.sample_end);
+            if (!full_frame)
+                meta["veach:pixelbounds"] = std::to_string(info.x0) + "," + std::to_string(info.x1) + "," +
+                                            std::to_string(info.y0) + "," + std::to_string(info.y1);
+            meta["veach:seed"] = std::to_string(info.seed);
+            meta["veach:camera"] = info.camera;
+            meta["veach:integrator"] = info.integrator;
+            if (!info.scene.empty()) meta["veach:scene"] = info.scene;
+        } else {
+            std::string error;
+            if (!veach::read_image_metadata(p, meta, error)) throw ApiError{VEACH_ERROR_BAD_INPUT, error};
+        }
+        std::string text;
+        for (auto [key, value] : meta) {
+            std::replace(value.begin(), value.end(), '\n', ' ');
+            std::replace(value.begin(), value.end(), '\r', ' ');
+            text += (text.empty() ? "" : "\n") + key + "=" + value;
+        }
+        veach::capi::copy_string(text, buffer, size, length);
+        return VEACH_ERROR_NONE;
+    });
+}
+
 VEACH_API VeachError veachCheckOutput(VeachRender render, const char* path) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_OUTPUT, [&] {
         check_render(render, "veachCheckOutput");
@@ -787,14 +826,14 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path) {
         // The samples per pixel every pixel completed: after a cancel some pixels hold one more
         // pass, which per-pixel averaging keeps unbiased.
         const veach::PartInfo& part = result->part;
-        const bool whole = part.sample_begin == 0 && part.x0 == 0 && part.y0 == 0 && part.x1 == result->image.width &&
-                           part.y1 == result->image.height;
+        const bool full_frame =
+            part.x0 == 0 && part.y0 == 0 && part.x1 == result->image.width && part.y1 == result->image.height;
         meta["veach:spp"] = std::to_string(result->stats.spp_done - part.sample_begin);
-        if (!whole) {
+        if (part.sample_begin != 0 || !full_frame)
             meta["veach:samples"] = std::to_string(part.sample_begin) + ":" + std::to_string(result->stats.spp_done);
+        if (!full_frame)
             meta["veach:pixelbounds"] = std::to_string(part.x0) + "," + std::to_string(part.x1) + "," +
                                         std::to_string(part.y0) + "," + std::to_string(part.y1);
-        }
         meta["veach:spp_requested"] = std::to_string(job.render.spp);
         meta["veach:complete"] = complete ? "yes" : "no";
         meta["veach:seed"] = std::to_string(job.render.seed);

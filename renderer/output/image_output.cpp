@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <system_error>
 #include <vector>
@@ -359,6 +360,57 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
         !add_radiance_header_lines(bytes, settings.metadata))
         fail(path, "cannot add the metadata to the Radiance header");
     write_file_atomically(path, bytes.data(), bytes.size());
+}
+
+namespace {
+
+// "key=value; key=value" (JPEG and TIFF descriptions, as write_image() joins them).
+void parse_description(const std::string& text, std::map<std::string, std::string>& metadata) {
+    for (size_t start = 0; start < text.size();) {
+        size_t end = text.find("; ", start);
+        if (end == std::string::npos) end = text.size();
+        const std::string item = text.substr(start, end - start);
+        const size_t eq = item.find('=');
+        if (eq != std::string::npos && eq > 0) metadata.emplace(item.substr(0, eq), item.substr(eq + 1));
+        start = end + 2;
+    }
+}
+
+}  // namespace
+
+bool read_image_metadata(const std::string& path, std::map<std::string, std::string>& metadata, std::string& error) {
+    FormatInfo info;
+    if (!format_of(path, info)) {
+        error = path + ": not an image format veach writes";
+        return false;
+    }
+    if (info.format == Format::hdr) {
+        // OpenImageIO keeps only the header lines it knows; ours sit between "#?RADIANCE" and
+        // the blank line that ends the header.
+        std::ifstream in(path, std::ios::binary);
+        std::string line;
+        if (!in || !std::getline(in, line) || line.rfind("#?", 0) != 0) {
+            error = path + ": not a Radiance HDR file";
+            return false;
+        }
+        for (int lines = 0; lines < 4096 && std::getline(in, line) && !line.empty(); ++lines) {
+            const size_t eq = line.find('=');
+            if (eq != std::string::npos && eq > 0) metadata.emplace(line.substr(0, eq), line.substr(eq + 1));
+        }
+        return true;
+    }
+    auto input = OIIO::ImageInput::open(path);
+    if (!input) {
+        error = path + ": " + one_line(OIIO::geterror());
+        return false;
+    }
+    const OIIO::ImageSpec& spec = input->spec();
+    for (const OIIO::ParamValue& p : spec.extra_attribs)
+        if (p.type() == OIIO::TypeString) metadata.emplace(p.name().string(), p.get_string());
+    if (info.format == Format::jpeg || info.format == Format::tiff)
+        parse_description(spec.get_string_attribute("ImageDescription"), metadata);
+    input->close();
+    return true;
 }
 
 }  // namespace veach

@@ -52,4 +52,10 @@ bool pass_needs_aovs(const std::string& pass);
 // file under `path`.
 void write_image(const Image& image, const std::string& path, const OutputSettings& settings);
 
+// The metadata write_image() put into a file of any format it writes, read back: the string
+// attributes of EXR, PNG, the "key=value; ..." ImageDescription of JPEG and TIFF, and the
+// "key=value" header lines of Radiance HDR. False (and `error`, one line) when the file cannot
+// be read as an image.
+bool read_image_metadata(const std::string& path, std::map<std::string, std::string>& metadata, std::string& error);
+
 }  // namespace veach

@@ -8,14 +8,21 @@ What must hold:
   permission bits would say yes) each exit 1 or 2 with one line, having rendered nothing: the
   render asked for would take far longer than the test waits, and no output appears. `veach
   merge` checks all its outputs before writing the first.
+- --skip-existing skips an output only when it is complete (veach:complete yes, the spp asked for,
+  the same sample range and tile; read from the file by the library): a real interrupted image
+  (SIGTERM after its first checkpoint) is rendered again and resumed from its checkpoint with
+  --resume; a part of another range or tile, an interrupted part, or a file that is no image is
+  rendered again; a complete image or part is skipped.
 Exit 0 pass, 1 fail.
 """
 import argparse
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 FAILURES = []
 ONLY = None  # --only NAME: one group of checks (while iterating)
@@ -110,6 +117,87 @@ def check_outputs_first(veach, scene, tmp):
     check(not leftovers, f"the checks left temporary files behind: {leftovers}")
 
 
+def metadata(path):
+    """veach:* keys of an EXR through OpenImageIO (the test's own reader, not the command's)."""
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(path)
+    if not inp:
+        return {}
+    spec = inp.spec()
+    out = {a.name: a.value for a in spec.extra_attribs if a.name.startswith("veach:")}
+    inp.close()
+    return out
+
+
+def check_skip_existing(veach, scene, tmp):
+    small = ["--width", "32", "--height", "32", "--integrator", "pt", "--threads", "1", "--skip-existing"]
+    out = os.path.join(tmp, "a.exr")
+    r = run(veach, "render", scene, "-o", out, *small, "--spp", "4")
+    check(r.returncode == 0 and "skipped" not in r.stderr, f"first render: {r.stderr.strip()}")
+    r = run(veach, "render", scene, "-o", out, *small, "--spp", "4")
+    check(r.returncode == 0 and "skipped" in r.stderr, f"a complete output was not skipped: {r.stderr.strip()}")
+    r = run(veach, "render", scene, "-o", out, *small, "--spp", "8")
+    check(r.returncode == 0 and "skipped" not in r.stderr, f"an output of 4 spp was skipped for --spp 8: {r.stderr}")
+    check(metadata(out).get("veach:spp") == "8", f"the 8-spp rerun did not replace the image: {metadata(out)}")
+
+    # A real interrupted render: SIGTERM once its first checkpoint is on disk. The image it leaves
+    # says veach:complete no, and the checkpoint stays.
+    spp = "600"
+    out = os.path.join(tmp, "killed.exr")
+    checkpoint = out + ".checkpoint"
+    p = subprocess.Popen([veach, "render", scene, "-o", out, *small, "--spp", spp, "--checkpoint", "0", "-q"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    while time.time() < deadline and not os.path.exists(checkpoint) and p.poll() is None:
+        time.sleep(0.01)
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=60)
+    if not check(p.returncode == 130 and os.path.exists(out) and os.path.exists(checkpoint),
+                 f"could not interrupt a render (exit {p.returncode}: {err.strip()}); is it too fast?"):
+        return
+    before = metadata(out)
+    check(before.get("veach:complete") == "no", f"the interrupted image is not marked incomplete: {before}")
+    r = run(veach, "render", scene, "-o", out, *small, "--spp", spp, "--checkpoint", "0", "--resume")
+    after = metadata(out)
+    check(r.returncode == 0 and "skipped" not in r.stderr, f"an interrupted image was skipped: {r.stderr.strip()}")
+    check(after.get("veach:complete") == "yes" and after.get("veach:spp") == spp,
+          f"the rerun did not complete the image: {after}")
+    check(int(after.get("veach:resumed_spp", "0")) > 0, f"the rerun did not resume from the checkpoint: {after}")
+    r = run(veach, "render", scene, "-o", out, *small, "--spp", spp, "--checkpoint", "0", "--resume")
+    check("skipped" in r.stderr, f"the completed image was not skipped: {r.stderr.strip()}")
+
+    # Part files: complete only for the same sample range and tile; an interrupted part
+    # (finished passes only) is rendered again.
+    part = os.path.join(tmp, "part.vpart")
+    r = run(veach, "render", scene, "-o", part, *small, "--spp", "8", "--samples", "0:4")
+    check(r.returncode == 0 and "skipped" not in r.stderr, f"first part: {r.stderr.strip()}")
+    r = run(veach, "render", scene, "-o", part, *small, "--spp", "8", "--samples", "0:4")
+    check("skipped" in r.stderr, f"a complete part was not skipped: {r.stderr.strip()}")
+    r = run(veach, "render", scene, "-o", part, *small, "--spp", "8", "--samples", "4:8")
+    check("skipped" not in r.stderr, f"a part of samples 0:4 was taken for 4:8: {r.stderr.strip()}")
+    r = run(veach, "render", scene, "-o", part, *small, "--spp", "8", "--samples", "4:8", "--pixelbounds", "0,16,0,32")
+    check("skipped" not in r.stderr, f"a whole-frame part was taken for a tile: {r.stderr.strip()}")
+    r = run(veach, "render", scene, "-o", part, *small, "--spp", "8", "--samples", "4:8", "--pixelbounds", "0,16,0,32")
+    check("skipped" in r.stderr, f"a complete tile part was not skipped: {r.stderr.strip()}")
+    part = os.path.join(tmp, "killed.vpart")
+    p = subprocess.Popen([veach, "render", scene, "-o", part, *small, "--spp", spp, "--samples", f"0:{spp}",
+                          "--checkpoint", "0", "-q"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    while time.time() < deadline and not os.path.exists(part + ".checkpoint") and p.poll() is None:
+        time.sleep(0.01)
+    p.send_signal(signal.SIGTERM)
+    p.communicate(timeout=60)
+    if check(p.returncode == 130 and os.path.exists(part), f"could not interrupt a part render (exit {p.returncode})"):
+        r = run(veach, "render", scene, "-o", part, *small, "--spp", spp, "--samples", f"0:{spp}", "-q")
+        check(r.returncode == 0 and "skipped" not in r.stderr, f"an interrupted part was skipped: {r.stderr.strip()}")
+    # Something that is not an image at all under the name: rendered over, not skipped.
+    junk = os.path.join(tmp, "junk.png")
+    with open(junk, "w") as f:
+        f.write("not a PNG\n")
+    r = run(veach, "render", scene, "-o", junk, *small, "--spp", "2")
+    check(r.returncode == 0 and "skipped" not in r.stderr, f"an unreadable file was taken as complete: {r.stderr}")
+
+
 def main():
     global ONLY
     ap = argparse.ArgumentParser()
@@ -118,7 +206,7 @@ def main():
     ap.add_argument("--only")
     args = ap.parse_args()
     ONLY = args.only
-    groups = [("outputs", check_outputs_first)]
+    groups = [("outputs", check_outputs_first), ("skip", check_skip_existing)]
     for name, fn in groups:
         if ONLY and name != ONLY:
             continue

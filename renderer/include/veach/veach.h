@@ -247,8 +247,8 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
  * through the OpenColorIO view (display, view, look, exposure, gamma), with the bits, quality,
  * half and exr_codec options. Metadata: Software, veach:scene, veach:camera, veach:spp,
  * veach:spp_requested, veach:complete, veach:seed, veach:integrator, veach:filter,
- * veach:render_seconds (and veach:resumed_spp; for a part, veach:samples "A:B" and
- * veach:pixelbounds). Atomic: never a half-written file.
+ * veach:render_seconds (and veach:resumed_spp; for a part, veach:samples "A:B" unless it starts at
+ * sample 0 of the whole frame, and veach:pixelbounds for a tile). Atomic: never a half-written file.
  * A path ending in .vpart (since 0.4) writes a part file instead: the film's exact double sums for
  * the render's sample range and pixel bounds, its light-tracing splats over the whole frame, and
  * the render's identity (a hash of every image-shaping setting and of the content, never the
@@ -262,6 +262,14 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
  * be created in it (as veachCheckFile) or `path` is a folder. Works on a render that has not run,
  * even one of an empty scene. One line naming the file either way. */
 VEACH_API VeachError veachCheckOutput(VeachRender render, const char* path);
+/* The metadata of a file veachWriteImage wrote (since 0.5), "key=value" one a line, through the
+ * caller's buffer: every format's keys as veachWriteImage names them (veach:spp, veach:complete,
+ * veach:spp_requested, veach:samples, ...; JPEG/TIFF descriptions and HDR header lines split
+ * into keys). For a .vpart, the keys an image of that part would carry (veach:spp,
+ * veach:spp_requested, veach:samples and veach:pixelbounds by the same rules, veach:seed, veach:camera, veach:integrator), read from its header. VEACH_ERROR_BAD_INPUT
+ * when the file cannot be read. The veach command's --skip-existing reads it. */
+VEACH_API VeachError veachReadImageMetadata(VeachDevice device, const char* path, char* buffer, size_t size,
+                                            size_t* length);
 
 /* ---- Part files: renders split across machines (since 0.4) -------------------------------- */
 
