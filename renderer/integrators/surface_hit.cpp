@@ -97,6 +97,7 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     const Instance& inst = scene.instances[hit.instance];
     const Mesh& mesh = scene.meshes[inst.mesh];
     s.material = &scene.material_of(mesh);
+    s.thin_walled = rs.thin_walled(inst.mesh);
     const uint32_t* idx = &mesh.indices[static_cast<size_t>(hit.prim) * 3];
     float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
     s.b1 = b1;

@@ -19,7 +19,8 @@ struct SurfaceHit {
     SurfaceAttributes attr;
     const Material* material = nullptr;
     uint32_t instance = 0, prim = 0;
-    float b1 = 0, b2 = 0;  // barycentrics
+    float b1 = 0, b2 = 0;      // barycentrics
+    bool thin_walled = false;  // RenderScene::thin_walled of the mesh
 };
 
 // Fills a SurfaceHit from an Embree hit. `footprint_width` is the width of the ray's cone where it

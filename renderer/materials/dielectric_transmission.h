@@ -59,6 +59,40 @@ inline DielectricLobeValue dielectric_eval(const Vec3& wo, const Vec3& wi, float
     return v;
 }
 
+// A thin wall (both sides air, no interior): light refracts in and straight back out, so the
+// transmitted lobe is the reflection lobe mirrored through the surface plane, weighted by 1 - F
+// where reflection is weighted by F (the glTF transmission extension's thin-walled BTDF). No
+// radiance is compressed into a denser medium, so there is no 1/eta^2 in either mode; the lobe
+// is symmetric in wo and wi (reciprocal), and in a uniform environment reflection plus
+// transmission return exactly what arrives (R + T = 1 before the base colour's tint).
+inline DielectricLobeValue thin_dielectric_eval(const Vec3& wo, const Vec3& wi, float alpha, float eta) {
+    DielectricLobeValue v;
+    if (wo.z <= 0.0f || wi.z == 0.0f) return v;
+    Vec3 wr(wi.x, wi.y, std::fabs(wi.z));  // wi mirrored to wo's side
+    Vec3 m = wo + wr;
+    float len = length(m);
+    if (!(len > 0.0f)) return v;
+    Vec3 h = m / len;
+    float wo_h = dot(wo, h);
+    if (wo_h <= 0.0f || dot(wr, h) <= 0.0f) return v;
+    float fr = fresnel_dielectric(wo_h, eta);
+    float share = wi.z > 0.0f ? fr : 1.0f - fr;
+    float d = ggx_d(h, alpha);
+    v.f = share * d * ggx_g2(wo, wr, alpha) / (4.0f * wo.z * wr.z);
+    v.pdf_w = share * ggx_g1(wo, alpha) * d / (4.0f * wo.z);  // D_wo(h) / (4 wo.h), wo.h cancelled
+    return v;
+}
+
+inline bool thin_dielectric_sample(const Vec3& wo, float alpha, float eta, float u_choice, float u1, float u2,
+                                   Vec3* wi, bool* transmitted) {
+    Vec3 h = ggx_sample_visible_normal(wo, alpha, u1, u2);
+    Vec3 r = reflect(wo, h);
+    if (!(r.z > 0.0f)) return false;
+    *transmitted = u_choice >= fresnel_dielectric(dot(wo, h), eta);
+    *wi = *transmitted ? Vec3(r.x, r.y, -r.z) : r;
+    return true;
+}
+
 // Draws wi; *transmitted tells which side. The caller computes f and pdf with dielectric_eval
 // (rough) or uses the discrete probabilities (smooth, see GltfBsdf).
 inline bool dielectric_sample(const Vec3& wo, float alpha, float eta, float u_choice, float u1, float u2, Vec3* wi,

@@ -9,13 +9,17 @@ namespace {
 
 Vec3 mirror_z(const Vec3& v) { return {v.x, v.y, -v.z}; }
 
+DielectricLobeValue dielectric_lobe(bool thin, const Vec3& wo, const Vec3& wi, float alpha, float eta, bool radiance) {
+    return thin ? thin_dielectric_eval(wo, wi, alpha, eta) : dielectric_eval(wo, wi, alpha, eta, radiance);
+}
+
 // Never let a lobe with weight starve entirely: keeps the variance bounded.
 constexpr float k_min_lobe_probability = 0.05f;
 
 }  // namespace
 
 GltfBsdf::GltfBsdf(const ShadingInputs& in, float eta)
-    : m_base(in.base_color), m_alpha(in.alpha), m_eta(eta > 0.0f ? eta : 1.0f) {
+    : m_base(in.base_color), m_alpha(in.alpha), m_eta(eta > 0.0f ? eta : 1.0f), m_thin(in.thin_walled) {
     float metallic = clamp(in.metallic, 0.0f, 1.0f);
     float t = clamp(in.transmission, 0.0f, 1.0f);
     m_w_metal = metallic;
@@ -189,11 +193,11 @@ Rgb GltfBsdf::eval_base(const Vec3& wo, const Vec3& wi, float eta, TransportMode
             f += (m_specular.eval(wo, wi, e_o, e_i) + diffuse) * m_w_opaque;
         }
         if (m_w_trans > 0.0f && !m_delta)
-            f += Rgb(dielectric_eval(wo, wi, m_alpha, eta, mode == TransportMode::Radiance).f * m_w_trans);
+            f += Rgb(dielectric_lobe(m_thin, wo, wi, m_alpha, eta, mode == TransportMode::Radiance).f * m_w_trans);
         return f;
     }
     if (wi.z < 0.0f && m_w_trans > 0.0f && !m_delta)
-        return m_base * (dielectric_eval(wo, wi, m_alpha, eta, mode == TransportMode::Radiance).f * m_w_trans);
+        return m_base * (dielectric_lobe(m_thin, wo, wi, m_alpha, eta, mode == TransportMode::Radiance).f * m_w_trans);
     return Rgb(0.0f);
 }
 
@@ -204,7 +208,7 @@ float GltfBsdf::pdf_upper(const Vec3& wo, const Vec3& wi, float eta, const Outgo
         if (p.spec > 0.0f && !m_delta) pdf += p.spec * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_alpha);
         if (p.cosine > 0.0f) pdf += p.cosine * lambert_pdf_w(wo, wi);
     }
-    if (p.trans > 0.0f && !m_delta) pdf += p.trans * dielectric_eval(wo, wi, m_alpha, eta, true).pdf_w;
+    if (p.trans > 0.0f && !m_delta) pdf += p.trans * dielectric_lobe(m_thin, wo, wi, m_alpha, eta, true).pdf_w;
     if (p.coat > 0.0f && !m_coat_delta && wi.z > 0.0f) {
         if (!m_coat_tilted) {
             pdf += p.coat * ggx_reflection_pdf_w(wo, normalize(wo + wi), m_coat_alpha);
@@ -264,7 +268,7 @@ Rgb GltfBsdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     Outgoing scratch;
     if (wo.z > 0.0f) return eval_upper(wo, wi, m_eta, mode, outgoing_at(wo, false, &scratch));
     if (wo.z < 0.0f)
-        return eval_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, mode, outgoing_at(mirror_z(wo), true, &scratch));
+        return eval_upper(mirror_z(wo), mirror_z(wi), below_eta(), mode, outgoing_at(mirror_z(wo), true, &scratch));
     return Rgb(0.0f);
 }
 
@@ -273,7 +277,7 @@ float GltfBsdf::pdf_w(const Vec3& wo, const Vec3& wi) const {
     Outgoing scratch;
     if (wo.z > 0.0f) return pdf_upper(wo, wi, m_eta, outgoing_at(wo, false, &scratch));
     if (wo.z < 0.0f)
-        return pdf_upper(mirror_z(wo), mirror_z(wi), 1.0f / m_eta, outgoing_at(mirror_z(wo), true, &scratch));
+        return pdf_upper(mirror_z(wo), mirror_z(wi), below_eta(), outgoing_at(mirror_z(wo), true, &scratch));
     return 0.0f;
 }
 
@@ -291,7 +295,7 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
         return true;
     }
     Vec3 wo = flipped ? mirror_z(wo_in) : wo_in;
-    float eta = flipped ? 1.0f / m_eta : m_eta;
+    float eta = flipped ? below_eta() : m_eta;
     Outgoing scratch;
     const Outgoing& o = outgoing_at(wo, flipped, &scratch);
     const LobeProbabilities& p = o.p;
@@ -336,8 +340,11 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
                 mirror_sample(wo, eta, o, out);
                 delta_done = true;
             } else {
-                if (!refract(wo, Vec3(0, 0, 1), eta, &wi)) return false;
-                float scale = mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
+                if (m_thin)
+                    wi = -wo;  // in and straight out again
+                else if (!refract(wo, Vec3(0, 0, 1), eta, &wi))
+                    return false;
+                float scale = mode == TransportMode::Radiance && !m_thin ? 1.0f / (eta * eta) : 1.0f;
                 // f cos / pdf = w_trans (1 - F) base scale / (p_trans (1 - F)), dimmed by the layers.
                 out->weight =
                     m_base * (m_w_trans * scale * base_scale(o, -wi.z, std::max(0.0f, -coat_cos(wi, o))) / p.trans);
@@ -348,7 +355,9 @@ bool GltfBsdf::sample(const Vec3& wo_in, float u_lobe, float u1, float u2, BsdfS
             }
         } else {
             bool transmitted;
-            if (!dielectric_sample(wo, m_alpha, eta, u_choice, u1, u2, &wi, &transmitted)) return false;
+            if (m_thin ? !thin_dielectric_sample(wo, m_alpha, eta, u_choice, u1, u2, &wi, &transmitted)
+                       : !dielectric_sample(wo, m_alpha, eta, u_choice, u1, u2, &wi, &transmitted))
+                return false;
         }
     }
     if (delta_done) {

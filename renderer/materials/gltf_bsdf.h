@@ -102,6 +102,9 @@ public:
     }
     bool has_delta() const { return m_delta || (m_coat > 0.0f && m_coat_delta); }
     bool has_transmission() const { return m_w_trans > 0.0f; }
+    // The relative index seen from below the shading frame: the interior's inverse, or for a thin
+    // wall (air on both sides) the same index.
+    float below_eta() const { return m_thin ? m_eta : 1.0f / m_eta; }
 
 private:
     struct LobeProbabilities {
@@ -158,6 +161,7 @@ private:
     MicrofacetReflection m_metal, m_specular;
     Rgb m_diffuse_norm;  // base / (pi (1 - E_spec_avg))
     bool m_black = false, m_delta = false, m_lambert = false;
+    bool m_thin = false;  // ShadingInputs::thin_walled: the same index from both sides
     float m_coat = 0, m_coat_alpha = 1;  // clearcoat factor and GGX alpha
     bool m_coat_delta = false;
     bool m_coat_tilted = false;  // the coat has its own normal (set_coat_normal)

@@ -21,6 +21,10 @@ struct ShadingInputs {
     float dielectric_f90 = 1;
     float transmission = 0;     // KHR_materials_transmission
     float ior = 1.5f;           // KHR_materials_ior: the relative index of a transmissive interior
+    // A thin wall (no interior, KHR_materials_volume's thin-walled case): transmission passes
+    // straight through, the reflection lobe mirrored to the far side, with no 1/eta^2; both sides
+    // are air, so the index is ior from either side. Set from SurfaceHit::thin_walled.
+    bool thin_walled = false;
     float clearcoat = 0;        // KHR_materials_clearcoat factor
     float clearcoat_alpha = 0;  // its GGX alpha = clearcoat roughness^2
     Rgb sheen_color{0, 0, 0};   // KHR_materials_sheen

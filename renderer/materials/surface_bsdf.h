@@ -28,7 +28,7 @@ public:
     // only when the material has a coat and it differs from ns; zero means "ns".
     SurfaceBsdf(const Vec3& ng, const Vec3& ns, const Vec3& wo, const ShadingInputs& in,
                 const Vec3& ns_coat = Vec3(0.0f, 0.0f, 0.0f))
-        : m_bsdf(in, dot(wo, ng) < 0.0f ? 1.0f / in.ior : in.ior) {
+        : m_bsdf(in, dot(wo, ng) < 0.0f && !in.thin_walled ? 1.0f / in.ior : in.ior), m_thin(in.thin_walled) {
         // ng comes from the winding, so wo on its side means arriving from outside a closed
         // transmissive mesh: the far side is the interior with relative index ior.
         float side = dot(wo, ng) < 0.0f ? -1.0f : 1.0f;
@@ -56,10 +56,10 @@ public:
     // KHR_materials_volume: the absorption of the medium a segment leaving this surface toward w
     // travels in. On wo's side it is the medium the path arrived through (`arrived`); across a
     // transmissive surface it is the interior of `material`'s mesh when entering and air when
-    // leaving (closed, non-nested meshes). The interior's absorption (logarithms) is computed
+    // leaving (closed, non-nested meshes); a thin wall has no interior. The interior's absorption (logarithms) is computed
     // only for a crossing.
     Rgb medium_toward(const Vec3& w, const Rgb& arrived, const Material& material) const {
-        if (!has_transmission() || dot(w, m_ng) >= 0.0f) return arrived;
+        if (!has_transmission() || m_thin || dot(w, m_ng) >= 0.0f) return arrived;
         return m_entering ? material.absorption() : Rgb(0.0f);
     }
 
@@ -115,6 +115,7 @@ private:
     Vec3 m_ng;
     Frame m_frame;
     GltfBsdf m_bsdf;
+    bool m_thin = false;  // a thin wall: air on both sides, no medium entered
     bool m_entering = true;
 };
 

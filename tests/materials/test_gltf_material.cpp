@@ -170,8 +170,9 @@ class GltfSamplingChiSquare : public ::testing::TestWithParam<std::tuple<float, 
 
 // metallic, roughness, transmission, eta (relative index below), theta of wo (> pi/2: below).
 // Metallic 2 and 3 stand for a dielectric with a clearcoat (roughness 0.3) or a sheen; 4 and 5
-// for a dielectric and a rough glass under a clearcoat with its own, tilted normal.
-constexpr int k_chi_square_configurations = 12 + 12 + 2 + 4 + 4;
+// for a dielectric and a rough glass under a clearcoat with its own, tilted normal; 6 for a thin
+// glass wall (transmission the mirrored reflection lobe).
+constexpr int k_chi_square_configurations = 12 + 12 + 2 + 4 + 4 + 4;
 
 // A coat normal tilted by `angle` from the base's shading normal (local frame).
 Vec3 tilted_coat_normal(float angle) { return direction(angle, 2.0f); }
@@ -184,8 +185,12 @@ TEST_P(GltfSamplingChiSquare, SampledDirectionsFollowPdf) {
     if (metallic == 4.0f) in = layered(inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness), 0.8f, 0.3f, Rgb(0.0f), 0.0f);
     if (metallic == 5.0f)
         in = layered(inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness, 1.0f, 1.5f, 1.0f), 0.8f, 0.4f, Rgb(0.0f), 0.0f);
+    if (metallic == 6.0f) {
+        in = inputs(Rgb(0.6f, 0.5f, 0.4f), 0.0f, roughness, 1.0f, 1.5f, 1.0f);
+        in.thin_walled = true;
+    }
     GltfBsdf bsdf(in, eta);
-    if (metallic >= 4.0f) bsdf.set_coat_normal(tilted_coat_normal(0.5f));
+    if (metallic == 4.0f || metallic == 5.0f) bsdf.set_coat_normal(tilted_coat_normal(0.5f));
     Vec3 wo = direction(theta, 0.7f);
     auto res = test::chi_square_directions(
         [&](Rng& rng, Vec3* d) {
@@ -220,9 +225,41 @@ INSTANTIATE_TEST_SUITE_P(TiltedCoat, GltfSamplingChiSquare,
 INSTANTIATE_TEST_SUITE_P(TiltedCoatGlass, GltfSamplingChiSquare,
                          ::testing::Combine(::testing::Values(5.0f), ::testing::Values(0.5f), ::testing::Values(1.0f),
                                             ::testing::Values(1.5f), ::testing::Values(0.7f, 2.5f)));
+INSTANTIATE_TEST_SUITE_P(ThinWall, GltfSamplingChiSquare,
+                         ::testing::Combine(::testing::Values(6.0f), ::testing::Values(0.3f, 0.6f), ::testing::Values(1.0f),
+                                            ::testing::Values(1.5f), ::testing::Values(0.7f, 2.5f)));
 INSTANTIATE_TEST_SUITE_P(Mixed, GltfSamplingChiSquare,
                          ::testing::Combine(::testing::Values(0.3f), ::testing::Values(0.4f), ::testing::Values(0.5f),
                                             ::testing::Values(1.33f), ::testing::Values(0.5f, 2.5f)));
+
+// A thin wall has air on both sides: its transmission is reciprocal (f(wo, wi) = f(wi, wo) from
+// either side), carries no 1/eta^2 in either transport mode, and sends a direction straight on
+// (the smooth wall's transmitted sample is -wo).
+TEST(GltfBsdfThinWall, ReciprocalWithoutEtaSquared) {
+    ShadingInputs in = inputs(Rgb(0.9f, 0.8f, 0.7f), 0.0f, 0.5f, 1.0f, 1.5f, 1.0f);
+    in.thin_walled = true;
+    GltfBsdf bsdf(in, 1.5f);
+    for (float a : {0.3f, 0.9f, 1.3f})
+        for (float b : {1.9f, 2.4f, 2.9f, 0.6f}) {
+            Vec3 wo = direction(a, 0.4f), wi = direction(b, 2.1f);
+            Rgb f = bsdf.eval(wo, wi, TransportMode::Radiance), r = bsdf.eval(wi, wo, TransportMode::Radiance);
+            Rgb g = bsdf.eval(wo, wi, TransportMode::Importance);
+            EXPECT_GT(f.g, 0.0f) << a << " " << b;
+            EXPECT_NEAR(f.g, r.g, 1e-4f * f.g) << a << " " << b;
+            EXPECT_NEAR(f.g, g.g, 1e-6f * f.g) << a << " " << b;
+        }
+    ShadingInputs smooth = inputs(Rgb(1.0f), 0.0f, 0.0f, 1.0f, 1.5f, 1.0f);
+    smooth.thin_walled = true;
+    GltfBsdf pane(smooth, 1.5f);
+    Vec3 wo = direction(0.5f, 1.0f);
+    BsdfSample bs;
+    ASSERT_TRUE(pane.sample(wo, 0.99f, 0.5f, 0.5f, &bs, TransportMode::Radiance));  // u_lobe past F: transmitted
+    EXPECT_NEAR(bs.wi.x, -wo.x, 1e-6f);
+    EXPECT_NEAR(bs.wi.y, -wo.y, 1e-6f);
+    EXPECT_NEAR(bs.wi.z, -wo.z, 1e-6f);
+    // weight = (1 - F) / P(transmit) = 1 for a white wall: nothing lost, nothing scaled.
+    EXPECT_NEAR(bs.weight.g, 1.0f, 1e-5f);
+}
 
 // The Lambert fast path (F0 = F90 = 0, nothing else) is the general layered model's limit: a
 // specular layer of F0 = F90 = 1e-6 takes the general path and must agree to that order, on

@@ -109,6 +109,7 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
     v->prim = hit.prim;
     v->light = rs.lights().emitter_of(hit.instance, hit.prim);
     ShadingInputs in = evaluate_material(*hit.material, rs.scene(), hit.attr);
+    in.thin_walled = hit.thin_walled;
     v->bsdf = SurfaceBsdf(hit.ng, hit.ns, -dir, in, hit.ns_coat);
 }
 

@@ -77,6 +77,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
         if (bounce >= m_settings.max_depth) break;
 
         ShadingInputs in = evaluate_material(*hit.material, scene, hit.attr);
+        in.thin_walled = hit.thin_walled;
         SurfaceBsdf bsdf(hit.ng, hit.ns, wo, in, hit.ns_coat);
         if (bsdf.is_black()) break;
 
