@@ -8,6 +8,8 @@
 
 #include <tiny_gltf.h>
 
+#include "core/available_memory.h"
+
 namespace veach::gltf {
 
 // Components are read with memcpy in the host's byte order; glTF data is little-endian.
@@ -17,11 +19,15 @@ namespace {
 
 // Output the file may make us allocate: a fixed allowance plus a multiple of its own size. Real
 // geometry expands by a small factor (u8 indices to u32, strips to lists, quantized attributes
-// to floats); only contrived files reach the limit. Textures are float RGBA, 16 bytes a texel:
-// the allowance admits one 16k x 16k image (the per-image limit) whatever the file's size.
+// to floats); only contrived files reach the limit. Textures are float RGBA, 16 bytes a texel,
+// and a decoder's temporary buffers are charged while they live: the allowance admits one
+// 16k x 16k image (the per-image limit) with its decode (4 GiB kept, up to 3 GiB transient)
+// whatever the file's size. Both allowances are also bounded by the memory the process can
+// still take when the import starts (core/available_memory), so a machine or cgroup without it
+// refuses the file with a message instead of being OOM-killed.
 constexpr uint64_t k_geometry_base = 512ull << 20;
 constexpr uint64_t k_geometry_per_input_byte = 32;
-constexpr uint64_t k_texture_base = 4ull << 30;
+constexpr uint64_t k_texture_base = 7ull << 30;
 constexpr uint64_t k_texture_per_input_byte = 64;
 // Meshes index vertices with uint32; no accessor we read can usefully be longer.
 constexpr uint64_t k_max_count = 1ull << 32;
@@ -255,6 +261,7 @@ ImportContext::ImportContext(Scene& scene_, uint64_t input_bytes) : scene(scene_
     input_bytes = std::min<uint64_t>(input_bytes, 1ull << 40);
     m_limit[0] = k_geometry_base + input_bytes * k_geometry_per_input_byte;
     m_limit[1] = k_texture_base + input_bytes * k_texture_per_input_byte;
+    m_available = available_memory_bytes();
 }
 
 void ImportContext::warn(const std::string& message) {
@@ -267,7 +274,16 @@ void ImportContext::charge(uint64_t bytes, const std::string& what, Budget budge
         throw GltfError(what + ": needs " + std::to_string(bytes >> 20) + " MiB more memory, beyond the " +
                         std::to_string(m_limit[b] >> 20) + " MiB of " + (b == 0 ? "geometry" : "textures") +
                         " this file's size can justify");
+    const uint64_t used = m_used[0] + m_used[1];
+    if (bytes > m_available || used > m_available - bytes)
+        throw GltfError(what + ": needs " + std::to_string(bytes >> 20) + " MiB more memory, beyond the " +
+                        std::to_string(m_available >> 20) + " MiB this process could take when the import started");
     m_used[b] += bytes;
+}
+
+void ImportContext::release(uint64_t bytes, Budget budget) {
+    size_t b = budget == Budget::Geometry ? 0 : 1;
+    m_used[b] -= std::min(bytes, m_used[b]);
 }
 
 float decode_component(const uint8_t* p, int component_type, bool normalized) {

@@ -43,6 +43,8 @@ public:
     void warn(const std::string& message);  // adds to Scene::warnings the first time only
     // Accounts for `bytes` of output; throws GltfError when the budget would be exceeded.
     void charge(uint64_t bytes, const std::string& what, Budget budget = Budget::Geometry);
+    // Returns a charge whose memory was freed again (a decoder's temporary buffers).
+    void release(uint64_t bytes, Budget budget = Budget::Geometry);
 
     Scene& scene;
 
@@ -50,6 +52,24 @@ private:
     std::unordered_set<std::string> m_warned;
     uint64_t m_limit[2] = {0, 0};
     uint64_t m_used[2] = {0, 0};
+    uint64_t m_available = UINT64_MAX;  // what the process could still take when the import started
+};
+
+// A charge for the lifetime of a scope: temporary buffers that are freed before the import ends.
+class ScopedCharge {
+public:
+    ScopedCharge(ImportContext& context, uint64_t bytes, const std::string& what, Budget budget)
+        : m_context(context), m_bytes(bytes), m_budget(budget) {
+        m_context.charge(bytes, what, budget);
+    }
+    ~ScopedCharge() { m_context.release(m_bytes, m_budget); }
+    ScopedCharge(const ScopedCharge&) = delete;
+    ScopedCharge& operator=(const ScopedCharge&) = delete;
+
+private:
+    ImportContext& m_context;
+    uint64_t m_bytes;
+    Budget m_budget;
 };
 
 // The encodings an attribute accepts. 32-bit float is always accepted; KHR_mesh_quantization

@@ -23,10 +23,12 @@
 
 #include <tiny_gltf.h>
 
+#include "core/available_memory.h"
 #include "core/content_hash.h"
 #include "importers/gltf/gltf_accessors.h"
 #include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_extensions.h"
+#include "importers/gltf/gltf_image_use.h"
 #include "importers/gltf/gltf_json_chunk.h"
 #include "importers/gltf/gltf_materials.h"
 #include "importers/gltf/gltf_meshopt.h"
@@ -82,8 +84,9 @@ struct UriPolicy {
     fs::path base_dir;
     bool allow_external = false;
     std::string violation;  // the first refused URI, reported once tinygltf returns
-    // Synthetic files served as zero bytes (EXT_meshopt_compression fallback buffers: uri ->
-    // size), only those the importer itself added to the file.
+    // Synthetic files served as zero bytes (uri -> size), never opened: EXT_meshopt_compression
+    // fallback buffers the importer itself added to the file, and image files no material uses
+    // (one byte each: tinygltf refuses an empty image; nothing decodes them).
     std::map<std::string, uint64_t> zero_files;
     uint64_t content_hash = 0;  // every file read so far, by content (Scene::content_hash)
 };
@@ -214,6 +217,23 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
     if (size > 0) image->image.assign(bytes, bytes + size);
     image->as_is = true;
     return true;
+}
+
+// Parsing costs a multiple of the JSON text before any budget of ours can see what it holds:
+// tinygltf's JSON document, the text's strings copied out of it, base64 data URIs decoded (a
+// 419 MB data URI peaked at 2.26 GB resident: 5.4 bytes a byte), and a .glb's binary chunk
+// copied into its buffer. Refused up front when that cannot fit in what the process may still
+// take, instead of being OOM-killed half way through.
+constexpr uint64_t k_parse_bytes_per_json_byte = 6;
+constexpr uint64_t k_parse_bytes_per_binary_byte = 2;
+
+void check_parse_memory(uint64_t json_bytes, uint64_t file_bytes) {
+    const uint64_t binary_bytes = file_bytes > json_bytes ? file_bytes - json_bytes : 0;
+    const uint64_t need = json_bytes * k_parse_bytes_per_json_byte + binary_bytes * k_parse_bytes_per_binary_byte;
+    const uint64_t available = available_memory_bytes();
+    if (need > available)
+        throw GltfError("parsing this file needs about " + std::to_string(need >> 20) + " MiB, more than the " +
+                        std::to_string(available >> 20) + " MiB of memory this process can take");
 }
 
 bool is_glb(std::span<const uint8_t> bytes) { return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0; }
@@ -424,12 +444,15 @@ private:
 
 void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
     if (bytes.size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
+    check_parse_memory(gltf::json_chunk(bytes, binary).size(), bytes.size());
     check_json_outline(outline_json(gltf::json_chunk(bytes, binary)), bytes, binary);
     std::optional<std::vector<uint8_t>> patched = gltf::patch_draco_index_accessors(bytes, binary, m_draco_indices);
     if (patched) {
         if (patched->size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
         bytes = *patched;
     }
+    for (const std::string& uri : gltf::unused_image_uris(gltf::json_chunk(bytes, binary)))
+        m_uri_policy.zero_files.emplace(uri, 1);
     std::optional<std::vector<uint8_t>> with_fallbacks =
         gltf::give_meshopt_fallbacks_uris(bytes, binary, m_uri_policy.zero_files);
     if (with_fallbacks) {
@@ -753,10 +776,20 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
     if (has("COLOR_0")) {
         gltf::FloatAccessor a = read("COLOR_0", color_format);
         mesh.colors.resize(n);
+        // A vertex colour multiplies the base colour, whose range is [0, 1]: float colours
+        // outside it (a negative or huge multiplier, NaN) would make a surface reflect more than
+        // it receives or a negative pixel, so they are held to it like the material's factors.
+        bool out_of_range = false;
+        auto unit = [&](float v) {
+            if (v >= 0.0f && v <= 1.0f) return v;
+            out_of_range = true;
+            return v > 1.0f ? 1.0f : 0.0f;  // NaN and negatives to 0
+        };
         for (size_t i = 0; i < n; ++i) {
             const float* c = &a.values[i * a.components];
-            mesh.colors[i] = Rgba{c[0], c[1], c[2], a.components == 4 ? c[3] : 1.0f};
+            mesh.colors[i] = Rgba{unit(c[0]), unit(c[1]), unit(c[2]), a.components == 4 ? unit(c[3]) : 1.0f};
         }
+        if (out_of_range) m_context->warn("COLOR_0 outside its range [0, 1] clamped");
     }
 
     std::vector<uint32_t> triangles;

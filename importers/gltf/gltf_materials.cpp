@@ -346,25 +346,29 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
         // Not PNG or JPEG (what Blender writes) but perhaps EXR, TIFF, ... from another tool:
         // OpenImageIO. Float images hold linear values, so a colour texture from one is stored
         // linear (srgb = false); integer images keep their encoded values, as from stb.
-        std::string stb_error = stb_reason();
         ImageData img;
+        std::string name = !image.uri.empty() && !image.uri.starts_with("data:") ? image.uri : "image";
+        if (image.mimeType == "image/x-exr" || image.mimeType == "image/exr")
+            name += ".exr";
+        else if (image.mimeType == "image/tiff")
+            name += ".tif";
+        else if (image.mimeType == "image/webp")
+            name += ".webp";
         try {
-            std::string name = !image.uri.empty() && !image.uri.starts_with("data:") ? image.uri : "image";
-            if (image.mimeType == "image/x-exr" || image.mimeType == "image/exr")
-                name += ".exr";
-            else if (image.mimeType == "image/tiff")
-                name += ".tif";
-            else if (image.mimeType == "image/webp")
-                name += ".webp";
-            img = read_image_memory(bytes.data(), bytes.size(), name);
-        } catch (const ImageReadError&) {
-            throw GltfError(where + ": cannot decode (" + stb_error + ")");
+            // The decoded size is charged from the header, before OpenImageIO allocates it.
+            img = read_image_memory(bytes.data(), bytes.size(), name, [&](int w, int h) {
+                uint64_t count = static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
+                if (count > k_max_texels)
+                    throw GltfError(where + ": image size " + std::to_string(w) + "x" + std::to_string(h) +
+                                    " is out of range");
+                m_context.charge(count * 4 * sizeof(float), where, Budget::Textures);
+            });
+        } catch (const ImageReadError& e) {
+            // stb said only that it is not PNG or JPEG; OpenImageIO's reason is the one that tells.
+            std::string reason = e.what();
+            if (reason.starts_with(name + ": ")) reason = reason.substr(name.size() + 2);
+            throw GltfError(where + ": cannot decode (" + reason + ")");
         }
-        uint64_t count = static_cast<uint64_t>(img.width) * static_cast<uint64_t>(img.height);
-        if (count > k_max_texels)
-            throw GltfError(where + ": image size " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                            " is out of range");
-        m_context.charge(count * 4 * sizeof(float), where, Budget::Textures);
         Texture tex;
         tex.name = !image.name.empty() ? image.name : "image " + std::to_string(image_index);
         tex.width = img.width;
@@ -383,8 +387,14 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
         throw GltfError(where + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
                         " is out of range");
     m_context.charge(texels * 4 * sizeof(float), where, Budget::Textures);
-
+    // stb's own buffers while it decodes, gone when it returns: the image as stored (up to 4
+    // channels), the same expanded to RGBA, and for PNG the inflated rows before unfiltering.
+    // Charged for the decode and released after, so that a small file declaring a huge image is
+    // refused before stb allocates, not after.
     bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), size) != 0;
+    const uint64_t stb_scratch = texels * 4 * (sixteen ? 2 : 1) * 3;
+    ScopedCharge scratch(m_context, stb_scratch, where + " (decoding)", Budget::Textures);
+
     std::unique_ptr<void, StbFree> pixels;
     int w = 0, h = 0;
     if (sixteen)

@@ -26,10 +26,12 @@ CASES = []
 
 
 def case(name, files, expect, args=(), message=None, warning=None, exit_code=None, memory_mb=2048,
-         nonfinite_ok=False, input_name=None):
+         nonfinite_ok=False, input_name=None, limit_is_the_point=False):
+    """`limit_is_the_point`: the contract is about what happens under `memory_mb` (a budget
+    refusing for lack of memory), so a run without limits (the sanitizer build) leaves it out."""
     CASES.append({"name": name, "files": files, "expect": expect, "args": list(args), "message": message,
                   "warning": warning, "exit": exit_code, "memory_mb": memory_mb, "nonfinite_ok": nonfinite_ok,
-                  "input": input_name})
+                  "input": input_name, "limit_is_the_point": limit_is_the_point})
 
 
 def f32(values):
@@ -204,6 +206,19 @@ def silent_wrong_image_cases():
             case(f"{name}_{integrator}",
                  {"scene.gltf": triangle_gltf(material={}, lights=[(light, {"translation": [0, 0, 0]})])},
                  "rendered", args=["--integrator", integrator])
+    # Float vertex colours multiply the base colour: negative or huge ones are clamped to [0, 1].
+    for name, colour in [("vertex_colour_negative_is_clamped", [-2.0, -2.0, -2.0, 1.0]),
+                         ("vertex_colour_1e30_is_clamped", [1e30, 1e30, 1e30, 1.0])]:
+        def add_colours(g, c=colour):
+            raw = f32(c * 3)
+            g["buffers"].append({"byteLength": len(raw), "uri": data_uri(raw)})
+            g["bufferViews"].append({"buffer": 1, "byteOffset": 0, "byteLength": len(raw)})
+            g["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC4"})
+            g["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 2
+        for integrator in ("pt", "bdpt"):
+            case(f"{name}_{integrator}",
+                 {"scene.gltf": triangle_gltf(material={}, lights=lit, extra=add_colours)}, "rendered",
+                 args=["--integrator", integrator], warning="COLOR_0")
     # A time limit that ends before the first pass: an error, never an image tagged complete.
     case("time_limit_before_first_pass_is_refused", {"scene.gltf": triangle_gltf()}, "refused",
          args=["--time", "1e-9", "--spp", "1000000"], message="time limit")
@@ -219,6 +234,69 @@ def silent_wrong_image_cases():
     glb1 += b" " * (-len(glb1) % 4)
     case("glb_1_0_is_refused", {"scene.glb": b"glTF" + struct.pack("<III", 1, 20 + len(glb1), len(glb1)) + struct.pack("<I", 0) + glb1},
          "refused", message="glTF 1.0 is not supported", input_name="scene.glb")
+
+
+def textured_triangle(uri, extra_images=(), mime=None):
+    """The triangle with a base-colour texture from image `uri` (plus images no texture uses)."""
+    image = {"uri": uri}
+    if mime:
+        image["mimeType"] = mime
+    images = [image] + [{"uri": u} for u in extra_images]
+    return triangle_gltf(material={"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                                   "emissiveFactor": [1, 1, 1]},
+                         extra=lambda g: g.update({"images": images, "textures": [{"source": 0}]}))
+
+
+def sparse_file(size):
+    """A file of `size` bytes that takes no disk space (reading it gives zeros)."""
+    def make(p):
+        with open(p, "wb") as f:
+            f.truncate(size)
+    return make
+
+
+def many_channel_exr(width, height, channels):
+    """A constant half-float EXR with `channels` channels, zip-compressed: a few hundred KB."""
+    def make(p):
+        import OpenImageIO as oiio
+        import numpy
+        spec = oiio.ImageSpec(width, height, channels, "half")
+        spec.channelnames = ("R", "G", "B", "A") + tuple(f"aov{k}" for k in range(channels - 4))
+        spec.attribute("compression", "zip")
+        out = oiio.ImageOutput.create(str(p))
+        out.open(str(p), spec)
+        row = numpy.full((width, channels), 0.5, dtype=numpy.float16)
+        for y in range(height):
+            if not out.write_scanline(y, 0, row):
+                raise RuntimeError(out.geterror())
+        out.close()
+    return make
+
+
+def memory_cases():
+    """Small files that declare large allocations: each is charged to a budget before the
+    allocation happens, refused with a message naming memory when it does not fit, and never
+    read or decoded further than what the render uses."""
+    # A 1x1 PNG whose header says 16384x16384: 4 GiB of float texels plus stb's buffers. Under
+    # the suite's 2 GiB address space the budget refuses it before stb allocates anything.
+    case("png_declaring_16384_squared_is_refused_before_decoding",
+         {"scene.gltf": textured_triangle("tex.png"), "tex.png": png_bytes(1, 1, declared=(16384, 16384))},
+         "refused", message="could take", limit_is_the_point=True)
+    # A 16-channel EXR texture of 4096x4096: only its RGBA channels are decoded (256 MiB); all
+    # sixteen as floats (1 GiB) would not fit the 1.25 GiB address space beside the process itself (about 0.7 GiB).
+    case("exr_texture_with_16_channels_decodes_rgba_only",
+         {"scene.gltf": textured_triangle("tex.exr", mime="image/x-exr"), "tex.exr": many_channel_exr(4096, 4096, 16)},
+         "rendered", memory_mb=1280)
+    # A data URI's JSON costs several times its size to parse: 96 MB of base64 under a 1 GiB
+    # address space is refused by the estimate, before tinygltf parses it.
+    big = triangle_gltf(buffer_uri=data_uri(triangle_bin() + bytes(72 << 20)))
+    big["buffers"][0]["byteLength"] = 42 + (72 << 20)
+    case("data_uri_too_large_to_parse_is_refused_before_parsing", {"scene.gltf": big}, "refused",
+         message="parsing this file needs", memory_mb=1024, limit_is_the_point=True)
+    # An image listed by the file but used by no texture: 3 GB that are never read.
+    case("unused_image_is_never_read",
+         {"scene.gltf": textured_triangle("tex.png", extra_images=["unused.png"]), "tex.png": png_bytes(4, 4),
+          "unused.png": sparse_file(3 << 30)}, "rendered")
 
 
 def png_bytes(width, height, declared=None, pixel=b"\x80\x80\x80"):
@@ -255,6 +333,7 @@ def main():
     camera_cases()
     confinement_cases()
     silent_wrong_image_cases()
+    memory_cases()
     manifest = []
     for c in CASES:
         folder = out / c["name"]
