@@ -151,6 +151,7 @@ const OptionTable k_options{
      "quality",
      "half",
      "aovs",
+     "transparent",
      "bdpt_s",
      "bdpt_t",
      "resume",
@@ -345,6 +346,8 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
             render->m_output.half = to_int(n, value, 0, 1) != 0;
         else if (n == "aovs")
             job.film.aovs = to_int(n, value, 0, 1) != 0;
+        else if (n == "transparent")
+            job.render.transparent = job.film.alpha = to_int(n, value, 0, 1) != 0;
         else if (n == "bdpt_s")
             job.render.bdpt_s = to_int(n, value, -1, 1000);
         else if (n == "bdpt_t")
@@ -472,6 +475,8 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
             *value = render->m_output.half ? 1 : 0;
         else if (n == "aovs")
             *value = job.film.aovs ? 1 : 0;
+        else if (n == "transparent")
+            *value = job.render.transparent ? 1 : 0;
         else if (n == "result_width")
             *value = r ? r->image.width : 0;
         else if (n == "result_height")

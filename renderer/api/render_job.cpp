@@ -59,7 +59,9 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
                          + (4 + 3 + 1) * sizeof(float)                 // resolved RGBA, variance, counts
                          + 4 * sizeof(float);                          // the encoded output
     if (options.film.aovs) per_pixel += 8 * sizeof(double) + 7 * sizeof(float);
-    if (options.checkpoint.write) per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0)) * sizeof(double);
+    if (options.film.alpha) per_pixel += sizeof(double);
+    if (options.checkpoint.write)
+        per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0) + (options.film.alpha ? 1 : 0)) * sizeof(double);
     const uint64_t film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
     uint64_t mips = 0;
     for (const Texture& t : scene.textures) mips += t.texels.size() * sizeof(float) / 3;
@@ -93,6 +95,9 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
         throw std::invalid_argument("--samples cannot be combined with --noise or --time");
     if (part.has_bounds && options.render.noise_target != 0)
         throw std::invalid_argument("--pixelbounds cannot be combined with --noise");
+    // Part files hold no coverage: a merged transparent render would come back opaque.
+    if ((sample_range || part.has_bounds) && (options.render.transparent || options.film.alpha))
+        throw std::invalid_argument("a transparent film cannot be rendered in parts (--samples, --pixelbounds)");
     if (part.has_bounds &&
         (part.x0 < 0 || part.x0 >= part.x1 || part.x1 > width || part.y0 < 0 || part.y0 >= part.y1 || part.y1 > height))
         throw std::invalid_argument("--pixelbounds " + std::to_string(part.x0) + "," + std::to_string(part.x1) + "," +
@@ -176,7 +181,10 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
 
 uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {
     const RenderSettings& r = options.render;
-    return HashKey("veach-render-v2")
+    HashKey key("veach-render-v2");
+    // Only when on, so that every opaque render keeps the identity it had before the option.
+    if (r.transparent || options.film.alpha) key.field("transparent", 1);
+    return key
         .field("width", width)
         .field("height", height)
         .field("camera", camera_name)

@@ -15,6 +15,7 @@ Film::Film(int width, int height, const FilmSettings& settings)
       m_splats(new std::atomic<double>[static_cast<size_t>(width) * height * 3]) {
     for (size_t i = 0; i < static_cast<size_t>(width) * height * 3; ++i) m_splats[i] = 0.0;
     if (settings.aovs) m_aovs.resize(m_pixels.size());
+    if (settings.alpha) m_alpha_hits.assign(m_pixels.size(), 0.0);
 }
 
 namespace {
@@ -137,7 +138,8 @@ Image Film::resolve(double splat_spp) const {
             if (p.weight > 1.0) var = std::max(0.0, (p.sum_sq[c] - p.weight * mean * mean) / (p.weight - 1.0)) * inv;
             img.variance[i * 3 + c] = static_cast<float>(var);
         }
-        img.rgba[i * 4 + 3] = 1.0f;
+        // Splats (light tracing) add light, never coverage: alpha is the camera samples'.
+        img.rgba[i * 4 + 3] = m_alpha_hits.empty() ? 1.0f : static_cast<float>(m_alpha_hits[i] * inv);
     }
     if (m_settings.aovs) {
         img.depth.resize(n);
@@ -163,7 +165,8 @@ constexpr size_t k_aov_doubles = 8;    // normal[3], albedo[3], depth, count
 
 size_t Film::state_size(bool with_plan) const {
     size_t n = m_pixels.size();
-    return n * k_pixel_doubles + m_aovs.size() * k_aov_doubles + n * 3 + (with_plan ? 2 + n * 4 : 0);
+    return n * k_pixel_doubles + m_aovs.size() * k_aov_doubles + m_alpha_hits.size() + n * 3 +
+           (with_plan ? 2 + n * 4 : 0);
 }
 
 void Film::save_state(double* out) const {
@@ -178,6 +181,7 @@ void Film::save_state(double* out) const {
         *out++ = a.depth;
         *out++ = a.count;
     }
+    for (double hits : m_alpha_hits) *out++ = hits;
     for (size_t i = 0; i < m_pixels.size() * 3; ++i) *out++ = m_splats[i].load(std::memory_order_relaxed);
     if (m_plan.empty()) return;
     *out++ = m_plan_target;
@@ -200,6 +204,7 @@ void Film::load_state(const double* in, size_t count) {
         a.depth = *in++;
         a.count = *in++;
     }
+    for (double& hits : m_alpha_hits) hits = *in++;
     bool any = false;
     for (size_t i = 0; i < m_pixels.size() * 3; ++i) {
         m_splats[i].store(*in, std::memory_order_relaxed);

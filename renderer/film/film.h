@@ -47,6 +47,10 @@ struct PixelAovs {
 struct FilmSettings {
     FilterSettings filter;
     bool aovs = false;  // record depth, normal and albedo
+    // Record coverage as the Combined pass's alpha: the fraction of a pixel's camera samples whose
+    // ray hits scene geometry (alpha-tested surfaces let it through as they do in rendering),
+    // from the same samples as the RGB. Without it alpha is 1.
+    bool alpha = false;
 };
 
 // Blender's "no hit" depth.
@@ -61,6 +65,9 @@ public:
     int height() const { return m_height; }
     const PixelFilter& filter() const { return m_filter; }
     bool wants_aovs() const { return m_settings.aovs; }
+    bool wants_alpha() const { return m_settings.alpha; }
+    // Whether a camera sample needs its first hit traced (first_hit_aovs.h).
+    bool wants_first_hit() const { return m_settings.aovs || m_settings.alpha; }
 
     struct Position {
         float fx, fy;
@@ -85,6 +92,7 @@ public:
         p.sum_sq[2] += static_cast<double>(radiance.b) * radiance.b;
         p.weight += 1.0;
         if (aovs && m_settings.aovs) add_aovs(i, *aovs);
+        if (aovs && m_settings.alpha && aovs->hit) m_alpha_hits[i] += 1.0;
     }
     // A light-tracing contribution landing on the film at continuous position (fx, fy); any
     // thread may call this.
@@ -121,7 +129,8 @@ public:
     uint64_t planned_total(uint64_t spp) const;
 
     // Checkpoints: the whole accumulated state as doubles in a fixed layout (per pixel: sums,
-    // sums of squares, sample count, then the AOV sums when recorded, then the splats, then,
+    // sums of squares, sample count, then the AOV sums when recorded, then the covered samples
+    // when alpha is recorded, then the splats, then,
     // with a sample plan, its target, pilot spp, per-pixel budgets and the pilot's splats).
     // Only while no thread renders. load_state takes the number of doubles, which says whether
     // a plan is included: state_size(false) or state_size(true).
@@ -157,6 +166,7 @@ private:
     PixelFilter m_filter;
     std::vector<Pixel> m_pixels;
     std::vector<AovSums> m_aovs;                      // empty unless settings.aovs
+    std::vector<double> m_alpha_hits;                 // per pixel, empty unless settings.alpha
     std::unique_ptr<std::atomic<double>[]> m_splats;  // 3 per pixel
     std::atomic<bool> m_has_splats{false};
     std::vector<uint32_t> m_plan;        // empty: no adaptive sampling

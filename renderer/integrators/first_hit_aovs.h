@@ -13,11 +13,11 @@ namespace veach {
 // What the camera ray through film position (fx, fy) first hits.
 PixelAovs first_hit_aovs(const RenderScene& rs, float fx, float fy);
 
-// Adds a camera sample placed at (fx, fy) for pixel (x, y), with its AOVs when the film
-// records them.
+// Adds a camera sample placed at (fx, fy) for pixel (x, y), with its AOVs and coverage (alpha)
+// when the film records them.
 inline void add_camera_sample(Film& film, const RenderScene& rs, int x, int y, float fx, float fy,
                               const Rgb& radiance) {
-    if (!film.wants_aovs()) {
+    if (!film.wants_first_hit()) {
         film.add_sample(x, y, radiance);
         return;
     }

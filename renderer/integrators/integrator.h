@@ -31,6 +31,10 @@ struct RenderSettings {
     // by lt, whose pixels hold no camera-sample values to judge (every contribution is a splat).
     float noise_target = 0;
     int min_spp = 0;  // samples of the pilot; 0 = automatic (16)
+    // Cycles' Film > Transparent: a camera ray that escapes sees no light at infinity (the
+    // environment and sun discs still light the scene through every other ray), so background
+    // pixels are black; the film's alpha (FilmSettings::alpha) says how much of each pixel is covered.
+    bool transparent = false;
 };
 
 struct Tile {

@@ -509,6 +509,40 @@ TEST_F(CApi, UniformEnvironmentIsSeenDirectlyWithItsStrength) {
     veachReleaseScene(s);
 }
 
+TEST_F(CApi, TransparentFilmHidesTheEnvironmentAndIsNotSplitIntoParts) {
+    // The same empty scene with transparent = 1: every pixel is (0, 0, 0, 0); alpha needs the
+    // film's coverage, which part files do not carry, so a sample range is refused.
+    VeachScene s = veachNewScene(m_device);
+    ASSERT_EQ(veachSetSceneString(s, "env_color", "0.5,0.25,1"), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachLoadSceneMemory(s, k_empty_gltf, sizeof(k_empty_gltf) - 1, "gltf", nullptr), VEACH_ERROR_NONE)
+        << veachGetLastError();
+    VeachRender r = veachNewRender(s);
+    veachSetInt(r, "width", 16);
+    veachSetInt(r, "height", 8);
+    veachSetInt(r, "spp", 2);
+    veachSetString(r, "integrator", "pt");
+    long long value = -1;
+    ASSERT_EQ(veachGetInt(r, "transparent", &value), VEACH_ERROR_NONE);
+    EXPECT_EQ(value, 0);
+    EXPECT_REFUSED(veachSetInt(r, "transparent", 2), VEACH_ERROR_INVALID_ARGUMENT, "transparent");
+    ASSERT_EQ(veachSetInt(r, "transparent", 1), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachGetInt(r, "transparent", &value), VEACH_ERROR_NONE);
+    EXPECT_EQ(value, 1);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+    std::vector<float> px = combined(r);
+    for (size_t i = 0; i < px.size(); ++i) ASSERT_EQ(px[i], 0.0f) << "pixel " << i / 4 << " channel " << i % 4;
+    veachReleaseRender(r);
+    r = veachNewRender(s);
+    veachSetInt(r, "transparent", 1);
+    veachSetInt(r, "spp", 4);
+    veachSetInt(r, "sample_end", 2);
+    EXPECT_NE(veachRender(r), VEACH_ERROR_NONE);
+    EXPECT_NE(std::string(veachGetLastError()).find("transparent film cannot be rendered in parts"), std::string::npos)
+        << veachGetLastError();
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
 TEST_F(CApi, NewRenderOptionsRefuseBadValuesAndReadBack) {
     VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
     ASSERT_NE(s, nullptr) << veachGetLastError();

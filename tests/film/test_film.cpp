@@ -74,6 +74,26 @@ TEST(Film, AovsFollowBlenderConventions) {
     EXPECT_TRUE(Film(2, 1).resolve(0).depth.empty());
 }
 
+// Alpha is the fraction of a pixel's camera samples that hit geometry (the AOVs' hit flag), the
+// splats adding light but no coverage; without FilmSettings::alpha it is 1.
+TEST(Film, AlphaIsTheCoveredFractionOfCameraSamples) {
+    FilmSettings s;
+    s.alpha = true;
+    Film film(2, 1, s);
+    PixelAovs hit, miss;
+    hit.hit = true;
+    for (int k = 0; k < 4; ++k) film.add_sample(0, 0, Rgb(1.0f), k == 0 ? &miss : &hit);
+    film.add_sample(1, 0, Rgb(0.0f), &miss);
+    film.add_splat(1.5f, 0.5f, Rgb(2.0f));
+    Image img = film.resolve(1);
+    EXPECT_FLOAT_EQ(img.pixel(0, 0)[3], 0.75f);
+    EXPECT_FLOAT_EQ(img.pixel(1, 0)[3], 0.0f);
+    EXPECT_GT(img.pixel(1, 0)[0], 0.0f);
+    Film opaque(2, 1);
+    opaque.add_sample(0, 0, Rgb(1.0f), &miss);
+    EXPECT_EQ(opaque.resolve(0).pixel(0, 0)[3], 1.0f);
+}
+
 // A 5x4 film with samples, AOVs and splats.
 void fill(Film& film, int seed) {
     Rng rng(seed, 1);
@@ -100,9 +120,11 @@ bool same_image(const Image& a, const Image& b) {
 }
 
 TEST(FilmCheckpoint, RoundTripIsBitExact) {
-    for (bool aovs : {false, true}) {
+    for (int variant = 0; variant < 3; ++variant) {
+        const bool aovs = variant == 1;
         FilmSettings s;
         s.aovs = aovs;
+        s.alpha = variant == 2;  // coverage is part of the state
         s.filter = {FilterType::blackman_harris, 1.5f};
         Film film(5, 4, s);
         fill(film, 3);

@@ -79,6 +79,43 @@ TEST(UniformEnvironment, CameraSeesItWhereNothingIsInTheWay) {
     }
 }
 
+// Cycles' Film > Transparent: where the camera sees the environment the pixel is (0, 0, 0, 0);
+// the environment still lights what the camera sees (a L on the plane, as without the option);
+// alpha is the covered fraction of each pixel, so its image mean is the plane's share of the
+// view: (0.9 / (2 * 2 tan(yfov / 2)))^2 at distance 2. Every integrator, lt included (its
+// camera samples carry the coverage, its splats the light).
+TEST(UniformEnvironment, TransparentFilmHidesItFromTheCameraOnly) {
+    Scene s = open_plane(0.5f);
+    s.cameras[0] = test::camera_at(Vec3(0, 0, 2.0f), 1.0f);
+    s.environment.enabled = true;
+    s.environment.color = Rgb(1.5f);
+    s.features.environment = true;
+    const double covered = std::pow(0.9 / (4.0 * std::tan(0.5)), 2.0);
+    for (const char* integrator : {"pt", "bdpt", "lt"}) {
+        const bool lt = std::string(integrator) == "lt";
+        RenderJobOptions o;
+        o.width = o.height = 16;
+        o.render = settings(integrator);
+        o.render.spp = test::spp(lt ? 1024 : 128);
+        o.render.seed = 3;
+        o.render.transparent = true;
+        o.film.alpha = true;
+        Image img = render_scene(s, o).image;
+        for (int c = 0; c < 4; ++c) {
+            EXPECT_EQ(img.pixel(0, 0)[c], 0.0f) << integrator << " channel " << c;
+            EXPECT_EQ(img.pixel(15, 3)[c], 0.0f) << integrator << " channel " << c;
+        }
+        double centre = (img.pixel(7, 7)[1] + img.pixel(8, 7)[1] + img.pixel(7, 8)[1] + img.pixel(8, 8)[1]) / 4;
+        EXPECT_NEAR(centre, 0.75, test::tol(0.05)) << integrator;
+        EXPECT_EQ(img.pixel(7, 7)[3], 1.0f) << integrator;
+        EXPECT_NEAR(test::channel_mean(img, 3), covered, test::tol(0.01)) << integrator;
+    }
+    // Off, alpha is 1 everywhere and the environment is seen.
+    Image opaque = render_with(s, 16, 16, settings("pt"));
+    EXPECT_EQ(opaque.pixel(0, 0)[3], 1.0f);
+    EXPECT_NEAR(opaque.pixel(0, 0)[1], 1.5f, 1e-4f);
+}
+
 // An environment map with one bright texel (and a dim rest), rotated: the plane's radiance is
 // a/pi times the irradiance integral of the map's upper hemisphere, computed here by quadrature.
 // Next-event estimation alone (bdpt strategy s = 1, t = 2), BSDF sampling alone (s = 0, t = 3),

@@ -181,7 +181,10 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           unweighted, for verification; -1 = all), resume (0 or 1: start from the checkpoint
  *           file when it exists), sample_begin, sample_end (since 0.4: render only sample
  *           indices [sample_begin, sample_end) of the spp; 0 <= begin < end <= spp, end 0 = spp;
- *           not with noise or time_limit)
+ *           not with noise or time_limit), transparent (since 0.5: 1 is Cycles' Film >
+ *           Transparent: camera rays that escape see no environment, which still lights the
+ *           scene, and the combined pass's alpha is the fraction of the pixel's camera samples
+ *           that hit geometry; not with sample_begin/sample_end or pixelbounds)
  *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1; Blender's default is
  *           1.5 for its smooth filters), exposure (stops), gamma,
  *           noise (adaptive sampling: a pixel stops once its estimated relative error is below
@@ -236,7 +239,8 @@ VEACH_API void veachCancelRender(VeachRender render);
 
 /* Copies a finished (or cancelled) render's pass into `dst`: 4 floats per pixel, row 0 at the top,
  * rows `row_stride_bytes` apart (0 = result_width * 4 * sizeof(float)); `dst` holds result_height
- * rows. Passes: "combined" (alias "color"): RGBA scene-linear Rec.709; with aovs = 1 also "depth"
+ * rows. Passes: "combined" (alias "color"): RGBA scene-linear Rec.709 (alpha 1, or coverage
+ * with transparent = 1: premultiplied, as Cycles'); with aovs = 1 also "depth"
  * (z, z, z, 1: camera-space Z of the first hit, 1e10 where nothing was hit, as Blender's Z pass),
  * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1)
  * and "samples" (since 0.3: the camera samples averaged into the pixel, n, n, n, 1: fewer than spp

@@ -403,6 +403,9 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 // The camera subpath found an emitter by itself.
                 if (t < 2 || z.light < 0) continue;
                 if (z.infinite) {
+                    // The camera ray itself escaped: a transparent film's background, which no
+                    // other strategy samples (see mis_weight), so nothing else is left out.
+                    if (t == 2 && m_settings.transparent) continue;
                     // Escaped: every light at infinity is seen along this direction, each with
                     // its own densities.
                     PathVertex& zi = ws.camera[t - 1];

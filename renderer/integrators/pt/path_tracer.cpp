@@ -43,6 +43,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
             }
         }
         if (!found) {
+            if (bounce == 0 && m_settings.transparent) break;  // a transparent film's background
             // Escaped: the environment and sun discs, weighted against the light sample that
             // could have chosen the same direction (its density is per solid angle, as the BSDF's).
             for (uint32_t index : lights.infinite_lights()) {
