@@ -76,9 +76,6 @@ class VeachRenderEngine(bpy.types.RenderEngine):
                 export = gltf_export.export_frame_gltf(depsgraph, path, width, height)
                 options = {"spot_falloff": "blender", "default_material": "blender", "allow_external_files": 1}
                 options.update(world.environment_options(scene.world, export, tmp))
-                if scene.render.film_transparent:
-                    export.warn("film transparent", "Film > Transparent is not carried over (the background "
-                                                    "renders, alpha is 1)")
                 for message in export.warnings.values():
                     self.report({"WARNING"}, f"Veach: {message}")
                 if os.environ.get("VEACH_BLENDER_KEEP_EXPORT"):  # for debugging an export

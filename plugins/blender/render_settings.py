@@ -3,7 +3,8 @@
 # With "Use Cycles Settings" (the default) a .blend set up for Cycles renders with what it asks
 # for: Cycles' samples, time limit, adaptive noise threshold, seed and animated seed, Light
 # Paths' max bounces and Film's pixel filter. Otherwise the Veach panel's own settings apply.
-# Either way the resolution, percentage and render region (border, crop) are Blender's own.
+# Either way the resolution, percentage, render region (border, crop) and Film > Transparent
+# are Blender's own.
 FILTERS = {"BOX": "box", "GAUSSIAN": "gaussian", "BLACKMAN_HARRIS": "blackman-harris"}
 
 
@@ -46,6 +47,9 @@ def render_options(scene):
         seed, animated = own.seed, own.use_animated_seed
     options["seed"] = frame_seed(seed, scene.frame_current) if animated else seed
     options["integrator"] = own.integrator
+    # Film > Transparent: the library leaves the background out of camera rays (it still lights
+    # the scene) and puts the coverage in the Combined pass's alpha, premultiplied as Cycles'.
+    options["transparent"] = 1 if scene.render.film_transparent else 0
     return options
 
 

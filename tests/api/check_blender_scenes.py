@@ -6,7 +6,10 @@ and compared with the committed Cycles reference NAME.cycles.exr: channel means 
 16x16 block means within 5% (tests/tools/image_compare.py). For the World scenes this is what
 the add-on carries over beside the glTF: world_color's uniform colour x strength, world_hdri's
 equirectangular image, strength and Mapping rotation (a wrong rotation moves the warm patch that
-lights the scene, and the floor's shading and the background fail the blocks). Then the first
+lights the scene, and the floor's shading and the background fail the blocks). A scene whose
+reference has alpha (film_transparent: Film > Transparent, RGBA) is checked for it too: the
+background exactly (0, 0, 0, 0) where Cycles' is (edge pixels aside), covered pixels alpha 1,
+alpha's mean within 2% and its 16x16 block means within 5% of Cycles'. Then the first
 scene again with a render region (border 0.25-0.75 x 0.5-1.0, Crop on, set by --python-expr as
 a user would): exactly that part of the full frame.
 The scenes hold nothing the add-on drops, so any "Veach:" warning in the log fails too.
@@ -14,12 +17,61 @@ Usage: check_blender_scenes.py --library LIBVEACH --addon plugins/blender --repo
 import argparse
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
+import numpy as np
+import OpenImageIO as oiio
+
+from blender_harness import failed, find_blender, install_addon, run_blender
+
 MEAN_TOLERANCE = 0.02
 BLOCK_TOLERANCE = 0.05
+
+
+def alpha(path):
+    """The alpha channel of an EXR (H x W), or None when it has none."""
+    image = oiio.ImageBuf(path)
+    names = list(image.spec().channelnames)
+    if "A" not in names:
+        return None
+    return np.asarray(image.get_pixels(oiio.FLOAT))[..., names.index("A")].astype(np.float64)
+
+
+def interior(mask):
+    """The pixels of mask whose 8 neighbours are in mask too (edges left out: partly covered)."""
+    padded = np.pad(mask, 1, constant_values=False)
+    h, w = mask.shape
+    return np.all([padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+
+
+def check_alpha(name, ours_path, reference_path, image_compare):
+    """A transparent film's alpha against Cycles': the background (where Cycles' alpha is 0, edges
+    aside) exactly (0, 0, 0, 0), covered pixels alpha 1, the mean alpha within MEAN_TOLERANCE and
+    16x16 block means of alpha within BLOCK_TOLERANCE. Returns the failures."""
+    reference, ours = alpha(reference_path), alpha(ours_path)
+    if reference is None or reference.min() >= 1.0:
+        return []  # an opaque film: alpha 1, nothing to compare
+    if ours is None:
+        return [f"{name}: the add-on's image has no alpha channel"]
+    rgb = image_compare.load(ours_path)
+    background, covered = interior(reference == 0.0), interior(reference == 1.0)
+    problems = []
+    leaks = np.count_nonzero((rgb[background] != 0.0).any(axis=-1) | (ours[background] != 0.0))
+    opaque = np.count_nonzero(ours[covered] != 1.0)
+    mean = ours.mean() / reference.mean()
+    blocks_ours, blocks_ref = (image_compare.block_means(a[..., None])[..., 0] for a in (ours, reference))
+    lit = blocks_ref > 0.05 * blocks_ref.mean()
+    blocks = float(np.max(np.abs(blocks_ours[lit] - blocks_ref[lit]) / blocks_ref[lit]))
+    print(f"{name} alpha: mean {mean:.4f} of Cycles', blocks {blocks:.4f}; {leaks} of {np.count_nonzero(background)} "
+          f"background pixels not (0, 0, 0, 0), {opaque} of {np.count_nonzero(covered)} covered pixels not alpha 1")
+    if leaks:
+        problems.append(f"{name}: {leaks} background pixels are not (0, 0, 0, 0)")
+    if opaque:
+        problems.append(f"{name}: {opaque} covered pixels do not have alpha 1")
+    if abs(mean - 1.0) > MEAN_TOLERANCE or blocks > BLOCK_TOLERANCE:
+        problems.append(f"{name}: alpha differs from Cycles' (mean ratio {mean:.4f}, blocks {blocks:.4f})")
+    return problems
 
 
 def main():
@@ -29,31 +81,23 @@ def main():
     ap.add_argument("--repo", required=True)
     ap.add_argument("scenes", nargs="+")
     args = ap.parse_args()
-    blender = shutil.which("blender")
-    if not blender:
-        sys.exit("FAIL: blender is not installed (scripts/install-deps.sh installs it)")
+    blender = find_blender()
     sys.path.insert(0, os.path.join(args.repo, "tests", "tools"))
     import image_compare
 
     tmp = tempfile.mkdtemp(prefix="veach_blender_scenes_")
     failures = []
     try:
-        scripts = os.path.join(tmp, "scripts")
-        os.makedirs(os.path.join(scripts, "addons"))
-        os.symlink(os.path.abspath(args.addon), os.path.join(scripts, "addons", "veach"))
-        env = dict(os.environ, BLENDER_USER_SCRIPTS=scripts, VEACH_LIBRARY=os.path.abspath(args.library))
+        env = install_addon(tmp, args.addon, args.library)
         for name in args.scenes:
             work = os.path.join(tmp, name)
             shutil.copytree(os.path.join(args.repo, "tests", "data", "scenes", name), work)
             command = [blender, "-b", name + ".blend", "--addons", "veach", "-E", "VEACH", "-o", "//out_#",
                        "-F", "OPEN_EXR", "-f", "1"]
-            # Blender takes the working directory from $PWD, as a shell sets it.
-            p = subprocess.run(command, cwd=work, env=dict(env, PWD=work), capture_output=True, text=True,
-                               timeout=300)
-            log = p.stdout + p.stderr
+            code, log = run_blender(command, work, env)
             out = os.path.join(work, "out_1.exr")
-            if p.returncode != 0 or "Error" in log or "Traceback" in log or not os.path.exists(out):
-                failures.append(f"{name}: exit {p.returncode}\n$ {' '.join(command)}\n{log[-3000:]}")
+            if failed(code, log) or not os.path.exists(out):
+                failures.append(f"{name}: exit {code}\n$ {' '.join(command)}\n{log[-3000:]}")
                 continue
             warnings = [line for line in log.splitlines() if "Veach:" in line]
             result = image_compare.compare(image_compare.load(out),
@@ -68,6 +112,7 @@ def main():
                 failures.append(f"{name}: unexpected warnings {warnings}")
             if not ok:
                 failures.append(f"{name}: differs from Cycles (mean {result['mean']}, blocks {result['blocks']:.4f})")
+            failures += check_alpha(name, out, os.path.join(work, name + ".cycles.exr"), image_compare)
         # A render region (Blender's border with Crop) is that part of the full frame: the same
         # pixels, since each pixel's samples depend only on the seed and the pixel.
         name = args.scenes[0]
@@ -76,10 +121,10 @@ def main():
                   "r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5, 1.0")
         command = [blender, "-b", name + ".blend", "--addons", "veach", "-E", "VEACH", "--python-expr", border,
                    "-o", "//border_#", "-F", "OPEN_EXR", "-f", "1"]
-        p = subprocess.run(command, cwd=work, env=dict(env, PWD=work), capture_output=True, text=True, timeout=300)
+        code, log = run_blender(command, work, env)
         full, region = (os.path.join(work, f) for f in ("out_1.exr", "border_1.exr"))
-        if p.returncode != 0 or not os.path.exists(region) or not os.path.exists(full):
-            failures.append(f"border render: exit {p.returncode}\n{(p.stdout + p.stderr)[-3000:]}")
+        if failed(code, log) or not os.path.exists(region) or not os.path.exists(full):
+            failures.append(f"border render: exit {code}\n{log[-3000:]}")
         else:
             whole, part = image_compare.load(full), image_compare.load(region)
             h, w = whole.shape[:2]
