@@ -43,6 +43,17 @@ PASSES = [
 ]
 AOV_PASSES = {"depth", "normal", "albedo"}  # the library records these only with aovs = 1
 
+# The library's scene warnings that repeat, once per light, what the export reported once for the
+# kind: (export warning kind, text of the library's line).
+REPORTED_BY_EXPORT = [("area light spread", "area light spread of")]
+
+
+def library_warnings(text, export):
+    """The library's scene warnings worth showing: one per line, none the export already gave."""
+    lines = [line.strip() for line in text.splitlines() if line.strip()]
+    return [line for line in lines
+            if not any(kind in export.warnings and words in line for kind, words in REPORTED_BY_EXPORT)]
+
 
 def enabled_passes(view_layer):
     return [p for p in PASSES if p[5](view_layer)]
@@ -91,9 +102,8 @@ class VeachRenderEngine(bpy.types.RenderEngine):
         lib = library.load(prefs.library_path if prefs else "")
         job = library.Render(lib, path, scene_options)
         try:
-            for line in job.scene_string("warnings").splitlines():
-                if line.strip():
-                    self.report({"WARNING"}, f"Veach: {line.strip()}")
+            for line in library_warnings(job.scene_string("warnings"), export):
+                self.report({"WARNING"}, f"Veach: {line}")
             options = render_settings.render_options(scene)
             job.set("width", width)
             job.set("height", height)

@@ -1,7 +1,7 @@
 # Runs inside Blender with the add-on enabled (blender -b --factory-startup --addons veach --python
 # blender_passes_scene.py -- OUT.blend): a floor whose Principled BSDF has subsurface scattering
 # and a ball coloured by a Noise Texture (two kinds the add-on drops with a warning each), under a
-# sun, with every pass the engine offers switched on; saved to OUT.blend for check_blender_passes.py.
+# sun and two area lights with a spread of 90 degrees (warned once), with every pass the engine offers switched on; saved to OUT.blend for check_blender_passes.py.
 import sys
 
 import bpy
@@ -40,6 +40,15 @@ instance.instance_type = 'COLLECTION'
 instance.instance_collection = group
 instance.location = (1.5, 1.0, 0.0)
 scene.collection.objects.link(instance)
+
+# Two area lights whose spread the renderer does not have (90 degrees, rendered as 180): one
+# warning for both. Dim, so the floor's checks below hold either way.
+for k in range(2):
+    area = bpy.data.objects.new(f"area{k}", bpy.data.lights.new(f"area{k}", "AREA"))
+    area.data.energy = 1.0
+    area.data.spread = 1.5708
+    area.location = (k - 0.5, 0.0, 3.0)
+    scene.collection.objects.link(area)
 
 sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
 sun.data.energy = 3.0

@@ -16,22 +16,14 @@ Usage: check_blender_frames.py --library LIBVEACH --addon plugins/blender --repo
 import argparse
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
+
+from blender_harness import find_blender, install_addon, run_or_exit
 
 MEAN_TOLERANCE = 0.02
 BLOCK_TOLERANCE = 0.05
 FRAMES = range(1, 13)
-
-
-def run(command, cwd, env, what):
-    # Blender takes the working directory from $PWD, as a shell sets it.
-    p = subprocess.run(command, cwd=cwd, env=dict(env, PWD=cwd), capture_output=True, text=True, timeout=300)
-    log = p.stdout + p.stderr
-    if p.returncode != 0 or "Error" in log or "Traceback" in log:
-        sys.exit(f"FAIL: {what}: exit {p.returncode}\n$ {' '.join(command)}\n{log[-4000:]}")
-    return log
 
 
 def main():
@@ -40,9 +32,7 @@ def main():
     ap.add_argument("--addon", required=True)
     ap.add_argument("--repo", required=True)
     args = ap.parse_args()
-    blender = shutil.which("blender")
-    if not blender:
-        sys.exit("FAIL: blender is not installed (scripts/install-deps.sh installs it)")
+    blender = find_blender()
     sys.path.insert(0, os.path.join(args.repo, "tests", "tools"))
     import image_compare
 
@@ -50,22 +40,19 @@ def main():
     tmp = tempfile.mkdtemp(prefix="veach_blender_frames_")
     try:
         # The add-on installed as a user installs it: a folder `veach` in the user's add-ons.
-        scripts = os.path.join(tmp, "scripts")
-        os.makedirs(os.path.join(scripts, "addons"))
-        os.symlink(os.path.abspath(args.addon), os.path.join(scripts, "addons", "veach"))
-        env = dict(os.environ, BLENDER_USER_SCRIPTS=scripts, VEACH_LIBRARY=os.path.abspath(args.library))
+        env = install_addon(tmp, args.addon, args.library)
         work = os.path.join(tmp, "scene")
-        run([blender, "-b", "--factory-startup", "--python",
+        run_or_exit([blender, "-b", "--factory-startup", "--python",
              os.path.join(args.repo, "scripts", "blender", "make_scene.py"), "--",
              "--scene", "posed", "--out", work, "--spp", "0"], tmp, env, "building posed.blend")
 
         common = [blender, "-b", "posed.blend", "--addons", "veach", "-E", "VEACH"]
         renders = {}  # (command, frame) -> path
-        log = run(common + ["-o", "//out_####", "-F", "OPEN_EXR", "-f", "7"], work, env, "-f 7")
+        log = run_or_exit(common + ["-o", "//out_####", "-F", "OPEN_EXR", "-f", "7"], work, env, "-f 7")
         renders[("-f 7", 7)] = "out_0007.exr"
-        run(common + ["-o", "//anim_####", "-F", "OPEN_EXR", "-s", "1", "-e", "12", "-a"], work, env, "-a")
+        run_or_exit(common + ["-o", "//anim_####", "-F", "OPEN_EXR", "-s", "1", "-e", "12", "-a"], work, env, "-a")
         renders.update({("-a", f): "anim_%04d.exr" % f for f in FRAMES})
-        run(common + ["-o", "//farm_####", "-F", "OPEN_EXR", "--render-frame", "1..3"], work, env,
+        run_or_exit(common + ["-o", "//farm_####", "-F", "OPEN_EXR", "--render-frame", "1..3"], work, env,
             "--render-frame 1..3")
         renders.update({("--render-frame 1..3", f): "farm_%04d.exr" % f for f in (1, 2, 3)})
         # Nothing in this scene is dropped: no warning may claim otherwise.

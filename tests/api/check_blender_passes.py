@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The add-on's passes and warnings, as a user gets them: a .blend saved by one Blender process
 (blender_passes_scene.py: an SSS floor, a ball with a Noise Texture and a collection instance of
-it, a sun, every pass on) and
+it, a sun, two dim area lights with a 90 degree spread, every pass on) and
 rendered by another with
   blender -b passes.blend --addons veach -E VEACH -o //out_# -F OPEN_EXR_MULTILAYER -f 1
 Checks, in the multi-layer EXR Blender writes:
@@ -11,30 +11,23 @@ Checks, in the multi-layer EXR Blender writes:
 - on the floor the Normal passes are Blender's world up (0, 0, 1) (Z up, not glTF's Y up), the
   albedo is the floor's base colour and the depth is finite; the variance is finite and >= 0;
 - the ball and its collection instance are two nodes of one shared mesh in the export;
-- Blender's log has exactly one WARNING for the dropped subsurface scattering and one for the
-  procedural texture.
+- Blender's log has exactly one WARNING for the dropped subsurface scattering, one for the
+  procedural texture and one for the area lights' spread of 90 degrees (rendered as 180).
 Usage: check_blender_passes.py --library LIBVEACH --addon plugins/blender"""
 import argparse
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
 import OpenImageIO as oiio
 
+from blender_harness import find_blender, install_addon, run_or_exit
+
 PASSES = {"Combined": "RGBA", "Depth": "Z", "Normal": "XYZ", "Denoising Albedo": "RGB",
           "Denoising Normal": "XYZ", "Variance": "RGB", "Sample Count": "X"}
-
-
-def run(command, cwd, env):
-    p = subprocess.run(command, cwd=cwd, env=dict(env, PWD=cwd), capture_output=True, text=True, timeout=300)
-    log = p.stdout + p.stderr
-    if p.returncode != 0 or "Traceback" in log or "Error" in log:
-        sys.exit(f"FAIL: exit {p.returncode}\n$ {' '.join(command)}\n{log[-3000:]}")
-    return log
 
 
 def main():
@@ -42,21 +35,17 @@ def main():
     ap.add_argument("--library", required=True)
     ap.add_argument("--addon", required=True)
     args = ap.parse_args()
-    blender = shutil.which("blender")
-    if not blender:
-        sys.exit("FAIL: blender is not installed (scripts/install-deps.sh installs it)")
+    blender = find_blender()
     tmp = tempfile.mkdtemp(prefix="veach_blender_passes_")
     try:
-        scripts = os.path.join(tmp, "scripts")
-        os.makedirs(os.path.join(scripts, "addons"))
-        os.symlink(os.path.abspath(args.addon), os.path.join(scripts, "addons", "veach"))
-        env = dict(os.environ, BLENDER_USER_SCRIPTS=scripts, VEACH_LIBRARY=os.path.abspath(args.library))
+        env = install_addon(tmp, args.addon, args.library)
         builder = os.path.join(os.path.dirname(os.path.abspath(__file__)), "blender_passes_scene.py")
-        run([blender, "-b", "--factory-startup", "--addons", "veach", "--python-exit-code", "1", "--python", builder,
-             "--", os.path.join(tmp, "passes.blend")], tmp, env)
+        run_or_exit([blender, "-b", "--factory-startup", "--addons", "veach", "--python-exit-code", "1", "--python",
+                     builder, "--", os.path.join(tmp, "passes.blend")], tmp, env, "building passes.blend")
         export_dir = os.path.join(tmp, "export")
-        log = run([blender, "-b", "passes.blend", "--addons", "veach", "-E", "VEACH", "-o", "//out_#", "-F",
-                   "OPEN_EXR_MULTILAYER", "-f", "1"], tmp, dict(env, VEACH_BLENDER_KEEP_EXPORT=export_dir))
+        log = run_or_exit([blender, "-b", "passes.blend", "--addons", "veach", "-E", "VEACH", "-o", "//out_#", "-F",
+                           "OPEN_EXR_MULTILAYER", "-f", "1"], tmp, dict(env, VEACH_BLENDER_KEEP_EXPORT=export_dir),
+                          "rendering passes.blend")
         failures = []
         with open(os.path.join(export_dir, "frame.gltf")) as f:
             gltf = json.load(f)
@@ -64,7 +53,7 @@ def main():
         print("ball nodes in the export:", [(n["mesh"], n["matrix"][12:15]) for n in balls])
         if len(balls) != 2 or balls[0]["mesh"] != balls[1]["mesh"] or balls[0]["matrix"] == balls[1]["matrix"]:
             failures.append(f"the ball and its collection instance are not two placements of one mesh: {balls}")
-        for kind in ("subsurface scattering", "procedural texture"):
+        for kind in ("subsurface scattering", "procedural texture", "spread"):
             lines = [line for line in log.splitlines() if "Veach:" in line and kind in line]
             print(f"warnings about {kind}: {lines}")
             if len(lines) != 1 or not lines[0].lstrip().lower().startswith("warning"):
