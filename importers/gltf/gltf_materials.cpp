@@ -379,6 +379,10 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
             tex.wrap_s = wrap_mode(sampler->wrapS);
             tex.wrap_t = wrap_mode(sampler->wrapT);
             tex.nearest = sampler->magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+            // minFilter NEAREST or LINEAR asks for no mip-mapping (Blender writes LINEAR_MIPMAP_LINEAR
+            // for Linear, NEAREST_MIPMAP_NEAREST for Closest).
+            tex.mipmaps = sampler->minFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
+                          sampler->minFilter != TINYGLTF_TEXTURE_FILTER_LINEAR;
         }
         return tex;
     }
@@ -428,6 +432,8 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
         tex.wrap_s = wrap_mode(sampler->wrapS);
         tex.wrap_t = wrap_mode(sampler->wrapT);
         tex.nearest = sampler->magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        tex.mipmaps = sampler->minFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
+                      sampler->minFilter != TINYGLTF_TEXTURE_FILTER_LINEAR;
     }
     return tex;
 }

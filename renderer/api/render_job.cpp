@@ -64,7 +64,8 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
         per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0) + (options.film.alpha ? 1 : 0)) * sizeof(double);
     const uint64_t film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
     uint64_t mips = 0;
-    for (const Texture& t : scene.textures) mips += t.texels.size() * sizeof(float) / 3;
+    for (const Texture& t : scene.textures)
+        if (t.mipmaps && !t.nearest) mips += t.texels.size() * sizeof(float) / 3;  // only what can be built
     const uint64_t available = available_memory_bytes();
     if (film + mips > available) {
         auto mib = [](uint64_t b) { return std::to_string(b >> 20) + " MiB"; };

@@ -101,7 +101,7 @@ Rgba sample_texture(const Texture& tex, Vec2 uv, float footprint) {
         tex.texels.size() < static_cast<size_t>(tex.width) * tex.height * 4)
         return {1, 1, 1, 1};
     float lod = texture_lod(tex, footprint);
-    if (!(lod > 0.0f) || tex.nearest) return level0(tex, uv);
+    if (!(lod > 0.0f) || tex.nearest || !tex.mipmaps) return level0(tex, uv);
     const std::vector<MipLevel>& levels = tex.mips.levels(tex.width, tex.height, tex.texels.data(), tex.srgb);
     int coarsest = static_cast<int>(levels.size());  // level n is levels[n - 1]
     if (coarsest == 0) return level0(tex, uv);

@@ -27,6 +27,7 @@ struct Texture {
     bool srgb = false;          // RGB encoded with the sRGB transfer function; alpha always linear
     WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
     bool nearest = false;  // magnification filter NEAREST; otherwise bilinear
+    bool mipmaps = true;   // the sampler's minFilter is a *_MIPMAP_* one or unset: minified lookups may use levels
     MipCache mips;         // coarser levels, built by the first minified lookup
 };
 
@@ -92,6 +93,12 @@ struct Material {
     float alpha_cutoff = 0.5f;
 
     bool is_emissive() const { return !emission.is_black(); }
+    bool has_textures() const {
+        return base_color_texture.valid() || metallic_roughness_texture.valid() || emissive_texture.valid() ||
+               specular_texture.valid() || specular_color_texture.valid() || transmission_texture.valid() ||
+               clearcoat_texture.valid() || clearcoat_roughness_texture.valid() || clearcoat_normal_texture.valid() ||
+               sheen_color_texture.valid() || sheen_roughness_texture.valid() || normal_texture.valid();
+    }
     // sigma_a of KHR_materials_volume per unit length; zero when nothing is absorbed.
     Rgb absorption() const {
         if (!(attenuation_distance > 0.0f)) return Rgb(0.0f);

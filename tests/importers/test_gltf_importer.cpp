@@ -498,6 +498,19 @@ TEST(GltfImporter, BaseColorTextureIsDecodedFromSrgbWithSampler) {
     EXPECT_TRUE(s.features.textures);
 }
 
+// The sampler's minFilter: NEAREST or LINEAR means no mip-mapping, a *_MIPMAP_* filter or none
+// given leaves it to the renderer (levels when minified).
+TEST(GltfImporter, MinFilterWithoutMipmapTurnsMipMappingOff) {
+    json pbr = {{"baseColorTexture", {{"index", 0}}}};
+    for (auto [filter, mipmaps] : {std::pair{9728, false}, std::pair{9729, false}, std::pair{9984, true},
+                                   std::pair{9987, true}, std::pair{-1, true}}) {
+        GltfBuilder b = material_scene({{"pbrMetallicRoughness", pbr}});
+        if (filter >= 0) b.doc["samplers"][0]["minFilter"] = filter;
+        Scene s = load(b);
+        EXPECT_EQ(s.textures.at(s.materials.at(0).base_color_texture.texture).mipmaps, mipmaps) << filter;
+    }
+}
+
 TEST(GltfImporter, DataTexturesStayLinearAndTexturesAreSharedPerColourSpace) {
     json pbr = {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}};
     Scene s = load(material_scene({{"pbrMetallicRoughness", pbr},

@@ -130,6 +130,11 @@ TEST(TextureSampling, TrilinearBlendsTheTwoLevelsAroundTheLod) {
     // NEAREST (Blender's "Closest") keeps point sampling at every distance.
     t.nearest = true;
     EXPECT_NEAR(sample_texture(t, Vec2{0.3f, 0.2f}, footprint_for(1.0f)).r, 0.0f, 1e-6f);
+    // A minFilter without mip-mapping (LINEAR or NEAREST) reads the image itself when minified.
+    t.nearest = false;
+    t.mipmaps = false;
+    EXPECT_NEAR(sample_texture(t, centre_of_texel_00, footprint_for(1.0f)).r, 0.0f, 1e-6f);
+    EXPECT_NEAR(sample_texture(t, centre_of_texel_00, footprint_for(5.0f)).r, 0.0f, 1e-6f);
 }
 
 // Level 1 of [0 0 0 0 1 1 1 1] is [0 0 1 1]. At u = 0, between its last and first texels, the

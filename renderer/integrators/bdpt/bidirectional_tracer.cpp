@@ -46,6 +46,7 @@ Rgb medium_toward(const PathVertex& v, const Vec3& w) {
 struct Workspace {
     std::vector<PathVertex> camera, light;
     PathVertex light_sample;  // the light end of a next-event connection (s = 1)
+    PathVertex seen;          // a light subpath vertex shaded again as the camera sees it (t = 1)
 };
 
 class Tracer {
@@ -107,6 +108,8 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
     v->attr = hit.attr;
     v->instance = hit.instance;
     v->prim = hit.prim;
+    v->b1 = hit.b1;
+    v->b2 = hit.b2;
     v->light = rs.lights().emitter_of(hit.instance, hit.prim);
     ShadingInputs in = evaluate_material(*hit.material, rs.scene(), hit.attr);
     in.thin_walled = hit.thin_walled;
@@ -441,6 +444,25 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 if (!(we > 0.0f) || !m_camera.project(y.p, &px, &py)) continue;
                 Rgb f;
                 Rgb y_beta = y.beta;
+                // Every other strategy reaches this point by the camera's own ray, which reads its
+                // textures with the pixel's footprint (README "Textures"): shaded again with that
+                // footprint, y makes the same integrand, and its densities in the MIS weight are
+                // the ones the camera strategies use for the same vertex.
+                bool reshaded = s > 1 && y.material && y.material->has_textures();
+                if (reshaded) {
+                    PathVertex& seen = ws.seen;
+                    seen = y;
+                    RayHit rh;
+                    rh.instance = y.instance;
+                    rh.prim = y.prim;
+                    rh.u = y.b1;
+                    rh.v = y.b2;
+                    fill_surface_vertex(m_rs, rh, normalize(y.p - ws.light[s - 2].p), &seen,
+                                        m_camera.footprint_width(std::sqrt(dist2), w));
+                    seen.delta = y.delta;
+                    seen.p = y.p;  // bit-identical to the vertex the subpath found
+                }
+                const PathVertex& ys = reshaded ? ws.seen : y;
                 if (s == 1) {
                     // y.beta = Le / (pmf pdf_pos): the light point itself, seen by the camera.
                     // Whether it emits toward the camera does not depend on the side the
@@ -458,13 +480,18 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                     }
                     f = Rgb(std::fabs(dot(y.ng, w)));
                 } else {
-                    f = y.bsdf.eval(normalize(ws.light[s - 2].p - y.p), -w, TransportMode::Importance);
+                    f = ys.bsdf.eval(normalize(ws.light[s - 2].p - y.p), -w, TransportMode::Importance);
                 }
                 if (f.is_black()) continue;
                 Rgb c = y_beta * f * (we * dot(w, m_camera.forward()) / dist2);
-                c *= beer_lambert(medium_toward(y, -w), std::sqrt(dist2));
+                c *= beer_lambert(medium_toward(ys, -w), std::sqrt(dist2));
                 if (c.is_black() || !visible(y, z)) continue;
-                float weight = weighted() ? mis_weight(ws.light, s, ws.camera, 1, nullptr) : 1.0f;
+                float weight = 1.0f;
+                if (weighted()) {
+                    if (reshaded) std::swap(ws.light[s - 1], ws.seen);
+                    weight = mis_weight(ws.light, s, ws.camera, 1, nullptr);
+                    if (reshaded) std::swap(ws.light[s - 1], ws.seen);
+                }
                 c = c * weight;
                 if (c.is_finite())
                     film.add_splat(px, py, c);

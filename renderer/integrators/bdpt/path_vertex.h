@@ -31,6 +31,7 @@ struct PathVertex {
     const Material* material = nullptr;
     SurfaceAttributes attr;
     uint32_t instance = 0, prim = 0;
+    float b1 = 0, b2 = 0;  // barycentrics of the hit, to shade the point again (texture footprints)
     // Lights (light vertices, and surface vertices on an emitter):
     int64_t light = -1;
     Vec3 light_dir;  // directional light vertex: the direction light travels
@@ -46,6 +47,7 @@ struct PathVertex {
         material = nullptr;
         attr = SurfaceAttributes();
         instance = prim = 0;
+        b1 = b2 = 0;
         light = -1;
     }
 };
