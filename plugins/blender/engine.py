@@ -162,7 +162,7 @@ class VeachRenderEngine(bpy.types.RenderEngine):
 def read_pass(job, name, width, height):
     """The pass as the library gives it: (height, width, 4) float32, rows from the top down."""
     pixels = np.empty((height, width, 4), dtype=np.float32)
-    job.get_pass(name, pixels.ctypes.data)
+    job.get_pass(name, pixels.ctypes.data, pixels.nbytes)
     return pixels
 
 

@@ -9,6 +9,9 @@ VEACH_ERROR_NONE = 0
 VEACH_ERROR_CANCELLED = 5
 STATUS_RUNNING, STATUS_DONE, STATUS_CANCELLED, STATUS_FAILED = 1, 2, 3, 4
 ABI_MAJOR = 0  # the libveach.so.<major> this add-on speaks to
+# The oldest minor it speaks to: 0.6's veachGetPass takes the destination's size, and ctypes
+# binds the newest symbol version a library has, so an older library would take the wrong call.
+ABI_MIN_MINOR = 6
 
 
 class VeachError(RuntimeError):
@@ -53,8 +56,10 @@ def load(preference_path=""):
             tried.append(f"{path} ({e})")
             continue
         declare(lib)
-        if lib.veachGetVersion() // 10000 != ABI_MAJOR:
-            tried.append(f"{path} (version {lib.veachGetVersionString().decode()}, need {ABI_MAJOR}.x)")
+        version = lib.veachGetVersion()
+        if version // 10000 != ABI_MAJOR or version // 100 % 100 < ABI_MIN_MINOR:
+            tried.append(f"{path} (version {lib.veachGetVersionString().decode()}, "
+                         f"need {ABI_MAJOR}.{ABI_MIN_MINOR} or a later {ABI_MAJOR}.x)")
             continue
         return lib
     raise VeachError(-1, "libveach not found; set VEACH_LIBRARY or the add-on preference. Tried: " + "; ".join(tried))
@@ -92,7 +97,7 @@ def declare(lib):
         "veachRenderAsync": (c.c_int, [P]),
         "veachWaitRender": (c.c_int, [P, c.c_int]),
         "veachCancelRender": (None, [P]),
-        "veachGetPass": (c.c_int, [P, c.c_char_p, c.c_void_p, c.c_size_t]),
+        "veachGetPass": (c.c_int, [P, c.c_char_p, c.c_void_p, c.c_size_t, c.c_size_t]),
     }
     for name, (res, args) in sigs.items():
         f = getattr(lib, name)
@@ -185,8 +190,9 @@ class Render:
     def cancel(self):
         self.lib.veachCancelRender(self.render)
 
-    def get_pass(self, name, buffer_address, row_stride_bytes=0):
-        self._check(self.lib.veachGetPass(self.render, name.encode(), buffer_address, row_stride_bytes))
+    def get_pass(self, name, buffer_address, buffer_bytes, row_stride_bytes=0):
+        self._check(self.lib.veachGetPass(self.render, name.encode(), buffer_address, buffer_bytes,
+                                          row_stride_bytes))
 
     def close(self):
         if getattr(self, "render", None):

@@ -664,7 +664,10 @@ VEACH_API void veachCancelRender(VeachRender render) {
     if (render) render->m_cancel = true;
 }
 
-VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t row_stride_bytes) {
+namespace {
+
+// SIZE_MAX for dst_bytes: the caller vouches for result_height rows (libveach 0.5's contract).
+VeachError copy_pass(VeachRender render, const char* pass, float* dst, size_t dst_bytes, size_t row_stride_bytes) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetPass");
         std::string p = pass ? pass : "";
@@ -702,6 +705,12 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
         if (row_stride_bytes == 0) row_stride_bytes = row_bytes;
         if (row_stride_bytes < row_bytes) throw invalid("veachGetPass: row stride smaller than a row");
         if (row_stride_bytes % sizeof(float) != 0) throw invalid("veachGetPass: row stride not a multiple of 4 bytes");
+        // The last row needs only its own bytes, not a whole stride.
+        const size_t needed = image.height > 0 ? (static_cast<size_t>(image.height) - 1) * row_stride_bytes + row_bytes : 0;
+        if (dst_bytes < needed)
+            throw invalid("veachGetPass: destination of " + std::to_string(dst_bytes) + " bytes, the " +
+                          std::to_string(image.width) + "x" + std::to_string(image.height) + " pass needs " +
+                          std::to_string(needed));
         auto* out = reinterpret_cast<unsigned char*>(dst);
         for (int y = 0; y < image.height; ++y) {
             float* row = reinterpret_cast<float*>(out + static_cast<size_t>(y) * row_stride_bytes);
@@ -722,6 +731,23 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
         return VEACH_ERROR_NONE;
     });
 }
+
+}  // namespace
+
+VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t dst_bytes,
+                                  size_t row_stride_bytes) {
+    return copy_pass(render, pass, dst, dst_bytes, row_stride_bytes);
+}
+
+// libveach 0.5 and earlier: veachGetPass without the destination's size. Programs linked against
+// those keep running on this library: their calls bind to this symbol version (VEACH_0 in
+// cmake/libveach.map), while programs built from today's veach.h bind to VEACH_0.6, the checked one.
+extern "C" __attribute__((visibility("default"))) VeachError compat_get_pass_without_size(VeachRender render,
+                                                                                          const char* pass, float* dst,
+                                                                                          size_t row_stride_bytes) {
+    return copy_pass(render, pass, dst, SIZE_MAX, row_stride_bytes);
+}
+__asm__(".symver compat_get_pass_without_size, veachGetPass@VEACH_0");
 
 VEACH_API VeachError veachReadImageMetadata(VeachDevice device, const char* path, char* buffer, size_t size,
                                             size_t* length) {

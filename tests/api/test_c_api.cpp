@@ -7,9 +7,11 @@
 //   the path tracer's images must be bit-identical;
 // - cancel stops a render promptly (the latency is measured and printed; the bound asserted is a
 //   generous 2 s so that a loaded machine cannot make it flake).
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -66,7 +68,7 @@ protected:
         veachGetInt(r, "result_width", &w);
         veachGetInt(r, "result_height", &h);
         std::vector<float> px(static_cast<size_t>(w * h * 4));
-        EXPECT_EQ(veachGetPass(r, "combined", px.data(), 0), VEACH_ERROR_NONE) << veachGetLastError();
+        EXPECT_EQ(veachGetPass(r, "combined", px.data(), px.size() * sizeof(float), 0), VEACH_ERROR_NONE) << veachGetLastError();
         return px;
     }
 
@@ -138,7 +140,7 @@ TEST_F(CApi, NullHandlesAndBadOptionsAreErrors) {
     EXPECT_EQ(veachSetInt(r, "result_width", 3), VEACH_ERROR_INVALID_ARGUMENT);  // read-only
     EXPECT_EQ(veachSetFloat(r, "time_limit", -1), VEACH_ERROR_INVALID_ARGUMENT);
     std::vector<float> px(16);
-    EXPECT_EQ(veachGetPass(r, "combined", px.data(), 0), VEACH_ERROR_INVALID_OPERATION);  // nothing rendered
+    EXPECT_EQ(veachGetPass(r, "combined", px.data(), px.size() * sizeof(float), 0), VEACH_ERROR_INVALID_OPERATION);  // nothing rendered
     EXPECT_EQ(m_errors.calls, 8);
     long long spp = 0;
     EXPECT_EQ(veachGetInt(r, "spp", &spp), VEACH_ERROR_NONE);
@@ -176,13 +178,62 @@ TEST_F(CApi, RenderReportsProgressAndCopiesPassesWithStride) {
     // A padded stride (e.g. a host's image with alignment) holds exactly the same rows.
     const size_t row_floats = 48 * 4, stride_floats = row_floats + 12;
     std::vector<float> padded(stride_floats * 48, -1.0f);
-    ASSERT_EQ(veachGetPass(r, "combined", padded.data(), stride_floats * sizeof(float)), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachGetPass(r, "combined", padded.data(), padded.size() * sizeof(float), stride_floats * sizeof(float)), VEACH_ERROR_NONE);
     for (size_t y = 0; y < 48; ++y) {
         EXPECT_TRUE(std::equal(tight.begin() + y * row_floats, tight.begin() + (y + 1) * row_floats,
                                padded.begin() + y * stride_floats));
         EXPECT_EQ(padded[y * stride_floats + row_floats], -1.0f);  // the padding is untouched
     }
-    EXPECT_EQ(veachGetPass(r, "combined", padded.data(), 16), VEACH_ERROR_INVALID_ARGUMENT);  // stride < row
+    EXPECT_EQ(veachGetPass(r, "combined", padded.data(), padded.size() * sizeof(float), 16), VEACH_ERROR_INVALID_ARGUMENT);  // stride < row
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+// veachGetPass knows the destination's size: one byte short of the last row is refused and not
+// a byte of the buffer is written. Programs linked against 0.5 call the form without the size,
+// which the library still exports under the symbol version VEACH_0 and which copies the same.
+TEST_F(CApi, GetPassRefusesASmallDestinationAndKeepsThe05Form) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    VeachRender r = new_cornell_render(s, 2);
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
+    const size_t row = 48 * 4 * sizeof(float), stride = row + 64, needed = 47 * stride + row;
+    std::vector<unsigned char> buffer(needed, 0xAB);
+    auto* dst = reinterpret_cast<float*>(buffer.data());
+    EXPECT_EQ(veachGetPass(r, "combined", dst, needed - 1, stride), VEACH_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(veachGetLastError()).find("destination"), std::string::npos) << veachGetLastError();
+    EXPECT_TRUE(std::all_of(buffer.begin(), buffer.end(), [](unsigned char b) { return b == 0xAB; }));
+    EXPECT_EQ(veachGetPass(r, "combined", dst, 0, 0), VEACH_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ(veachGetPass(r, "combined", dst, needed, stride), VEACH_ERROR_NONE) << veachGetLastError();
+    std::vector<unsigned char> expected = buffer;
+
+    using GetPass05 = VeachError (*)(VeachRender, const char*, float*, size_t);
+    auto old_form = reinterpret_cast<GetPass05>(dlvsym(RTLD_DEFAULT, "veachGetPass", "VEACH_0"));
+    ASSERT_NE(old_form, nullptr) << "libveach lost veachGetPass@VEACH_0";
+    auto new_form = dlvsym(RTLD_DEFAULT, "veachGetPass", "VEACH_0.6");
+    EXPECT_EQ(new_form, reinterpret_cast<void*>(&veachGetPass));
+    std::fill(buffer.begin(), buffer.end(), 0xAB);
+    ASSERT_EQ(old_form(r, "combined", dst, stride), VEACH_ERROR_NONE);
+    EXPECT_EQ(buffer, expected);
+    veachReleaseRender(r);
+    veachReleaseScene(s);
+}
+
+// An option of one integrator given to another is refused, not ignored.
+TEST_F(CApi, BdptStrategyWithAnotherIntegratorIsRefused) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    VeachRender r = new_cornell_render(s, 1);
+    ASSERT_EQ(veachSetInt(r, "bdpt_s", 1), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetInt(r, "bdpt_t", 2), VEACH_ERROR_NONE);
+    for (const char* other : {"pt", "lt"}) {
+        ASSERT_EQ(veachSetString(r, "integrator", other), VEACH_ERROR_NONE);
+        EXPECT_EQ(veachRender(r), VEACH_ERROR_INVALID_ARGUMENT) << other;
+        EXPECT_NE(std::string(veachGetLastError()).find("only to the bdpt integrator"), std::string::npos)
+            << veachGetLastError();
+    }
+    ASSERT_EQ(veachSetString(r, "integrator", "bdpt"), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
     veachReleaseRender(r);
     veachReleaseScene(s);
 }
@@ -193,10 +244,10 @@ TEST_F(CApi, DepthPassWhenAovsRequested) {
     VeachRender r = new_cornell_render(s, 2);
     std::vector<float> depth(48 * 48 * 4);
     ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
-    EXPECT_EQ(veachGetPass(r, "depth", depth.data(), 0), VEACH_ERROR_INVALID_OPERATION);  // not recorded
+    EXPECT_EQ(veachGetPass(r, "depth", depth.data(), depth.size() * sizeof(float), 0), VEACH_ERROR_INVALID_OPERATION);  // not recorded
     ASSERT_EQ(veachSetInt(r, "aovs", 1), VEACH_ERROR_NONE);
     ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
-    ASSERT_EQ(veachGetPass(r, "depth", depth.data(), 0), VEACH_ERROR_NONE) << veachGetLastError();
+    ASSERT_EQ(veachGetPass(r, "depth", depth.data(), depth.size() * sizeof(float), 0), VEACH_ERROR_NONE) << veachGetLastError();
     // Inside a closed box every camera ray hits something in front of the camera.
     size_t center = (24 * 48 + 24) * 4;
     EXPECT_GT(depth[center], 0.0f);
@@ -211,7 +262,7 @@ TEST_F(CApi, SamplesPassCountsEachPixelsSamples) {
     VeachRender r = new_cornell_render(s, 6);
     ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
     std::vector<float> samples(48 * 48 * 4);
-    ASSERT_EQ(veachGetPass(r, "samples", samples.data(), 0), VEACH_ERROR_NONE) << veachGetLastError();
+    ASSERT_EQ(veachGetPass(r, "samples", samples.data(), samples.size() * sizeof(float), 0), VEACH_ERROR_NONE) << veachGetLastError();
     // Without adaptive sampling every pixel averages exactly the samples asked for.
     for (size_t i = 0; i < samples.size(); i += 4) {
         ASSERT_EQ(samples[i], 6.0f) << "pixel " << i / 4;
@@ -220,7 +271,7 @@ TEST_F(CApi, SamplesPassCountsEachPixelsSamples) {
     ASSERT_EQ(veachSetFloat(r, "noise", 0.5), VEACH_ERROR_NONE);
     ASSERT_EQ(veachSetInt(r, "spp", 64), VEACH_ERROR_NONE);
     ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE);
-    ASSERT_EQ(veachGetPass(r, "samples", samples.data(), 0), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachGetPass(r, "samples", samples.data(), samples.size() * sizeof(float), 0), VEACH_ERROR_NONE);
     // A loose noise threshold stops some pixels early, never past the samples asked for.
     float least = 1e9f, most = 0;
     for (size_t i = 0; i < samples.size(); i += 4)

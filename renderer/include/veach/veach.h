@@ -31,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 5
+#define VEACH_VERSION_MINOR 6
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -237,15 +237,19 @@ VEACH_API VeachStatus veachGetRenderStatus(VeachRender render);
  * command does the former. */
 VEACH_API void veachCancelRender(VeachRender render);
 
-/* Copies a finished (or cancelled) render's pass into `dst`: 4 floats per pixel, row 0 at the top,
- * rows `row_stride_bytes` apart (0 = result_width * 4 * sizeof(float)); `dst` holds result_height
- * rows. Passes: "combined" (alias "color"): RGBA scene-linear Rec.709 (alpha 1, or coverage
- * with transparent = 1: premultiplied, as Cycles'); with aovs = 1 also "depth"
+/* Copies a finished (or cancelled) render's pass into `dst`, which holds `dst_bytes` bytes: 4
+ * floats per pixel, row 0 at the top, rows `row_stride_bytes` apart (0 = result_width * 4 *
+ * sizeof(float)). A destination smaller than (result_height - 1) * stride + one row is refused
+ * with VEACH_ERROR_INVALID_ARGUMENT before anything is written (since 0.6; 0.5's form without
+ * `dst_bytes` remains in the library for programs linked against it). Passes: "combined" (alias
+ * "color"): RGBA scene-linear Rec.709 (alpha 1, or coverage with transparent = 1: premultiplied,
+ * as Cycles'); with aovs = 1 also "depth"
  * (z, z, z, 1: camera-space Z of the first hit, 1e10 where nothing was hit, as Blender's Z pass),
  * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1)
  * and "samples" (since 0.3: the camera samples averaged into the pixel, n, n, n, 1: fewer than spp
  * where adaptive sampling stopped the pixel early or a non-finite sample was dropped). */
-VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t row_stride_bytes);
+VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t dst_bytes,
+                                  size_t row_stride_bytes);
 /* Writes the combined pass (and for EXR the `passes` option's layers) through the output driver:
  * format from the extension (.exr .hdr .png .jpg .tif); EXR/HDR scene-linear, PNG/JPEG/TIFF
  * through the OpenColorIO view (display, view, look, exposure, gamma), with the bits, quality,

@@ -230,7 +230,7 @@ public:
     // The pass as float RGBA, rows top to bottom.
     std::vector<float> pass(const char* name = "combined") const {
         std::vector<float> pixels(static_cast<size_t>(width()) * height() * 4);
-        detail::check(veachGetPass(m_h, name, pixels.data(), 0));
+        detail::check(veachGetPass(m_h, name, pixels.data(), pixels.size() * sizeof(float), 0));
         return pixels;
     }
     void write_image(const std::string& path) const { detail::check(veachWriteImage(m_h, path.c_str())); }
