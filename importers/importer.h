@@ -37,6 +37,12 @@ struct ImportOptions {
     SpotProfile spot_profile = SpotProfile::Auto;
     DefaultMaterial default_material = DefaultMaterial::Auto;
     bool allow_external_files = false;  // URIs outside the file's folder
+    // Fill Scene::animation (nodes, animations, skins, morph targets) for pose_scene; off, the
+    // file's nodes are placed as they stand and skins and morph targets are not applied.
+    bool animate = false;
+    // With animate: the animation to play, by name or index; "all" (or empty): all at once. A
+    // name or index the file lacks is bad input, listing the file's animations.
+    std::string animation = "all";
 };
 
 // Loads a file by its extension (case-insensitive). Throws ImportError on bad input.

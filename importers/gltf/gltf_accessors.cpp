@@ -175,15 +175,16 @@ struct Layout {
 };
 
 // The accessor's declared element type and count, checked, without looking at its data.
-Layout declared(const tinygltf::Model& model, int index, const std::string& what) {
+Layout declared(const tinygltf::Model& model, int index, const std::string& what, bool allow_mat4 = false) {
     if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
         throw GltfError(what + ": accessor " + std::to_string(index) + " does not exist (the file has " +
                         std::to_string(model.accessors.size()) + ")");
     const tinygltf::Accessor& a = model.accessors[index];
     Layout l;
     l.where = what + " (accessor " + std::to_string(index) + ")";
-    l.components = type_components(a.type);
+    l.components = allow_mat4 && a.type == TINYGLTF_TYPE_MAT4 ? 16 : type_components(a.type);
     if (l.components == 0) throw GltfError(l.where + ": matrix accessors are not valid here");
+    if (allow_mat4 && l.components != 16) throw GltfError(l.where + ": expected a MAT4 accessor");
     l.component_type = a.componentType;
     l.component_bytes = component_size(a.componentType);
     if (l.component_bytes == 0) throw GltfError(l.where + ": invalid componentType " + std::to_string(a.componentType));
@@ -194,8 +195,8 @@ Layout declared(const tinygltf::Model& model, int index, const std::string& what
     return l;
 }
 
-Layout validate(const tinygltf::Model& model, int index, const std::string& what) {
-    Layout l = declared(model, index, what);
+Layout validate(const tinygltf::Model& model, int index, const std::string& what, bool allow_mat4 = false) {
+    Layout l = declared(model, index, what, allow_mat4);
     const tinygltf::Accessor& a = model.accessors[index];
     if (a.bufferView >= 0) l.run = locate(model, a.bufferView, a.byteOffset, l.count, l.element_bytes(), true, l.where);
 
@@ -328,6 +329,28 @@ FloatAccessor read_float_accessor(const tinygltf::Model& model, int index, const
     for (size_t k = 0; k < l.sparse_count; ++k) {
         uint32_t target = decode_index(l.sparse_indices.first + k * l.sparse_indices.stride, l.sparse_index_type);
         decode_element(l.sparse_values.first + k * l.sparse_values.stride, target);
+    }
+    return out;
+}
+
+std::vector<Transform> read_matrix_accessor(const tinygltf::Model& model, int index, const std::string& what,
+                                           ImportContext& context) {
+    Layout l = validate(model, index, what, true);
+    if (l.component_type != k_float)
+        throw GltfError(l.where + ": component type " + component_name(l.component_type) + " (expected FLOAT)");
+    context.charge(l.count * sizeof(Transform), l.where);
+    std::vector<float> values(l.count * 16, 0.0f);
+    if (l.run.first)
+        for (size_t i = 0; i < l.count; ++i) std::memcpy(&values[16 * i], l.run.first + i * l.run.stride, 64);
+    for (size_t k = 0; k < l.sparse_count; ++k) {
+        uint32_t target = decode_index(l.sparse_indices.first + k * l.sparse_indices.stride, l.sparse_index_type);
+        std::memcpy(&values[16 * target], l.sparse_values.first + k * l.sparse_values.stride, 64);
+    }
+    std::vector<Transform> out(l.count);
+    for (size_t i = 0; i < l.count; ++i) {
+        double m[16];
+        for (int k = 0; k < 16; ++k) m[k] = values[16 * i + size_t(k)];
+        out[i] = from_column_major(m);  // glTF matrices are column-major; the last row is (0 0 0 1)
     }
     return out;
 }

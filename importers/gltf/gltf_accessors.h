@@ -113,6 +113,10 @@ AccessorInfo index_accessor_info(const tinygltf::Model& model, int index, const 
 float decode_component(const uint8_t* p, int component_type, bool normalized);
 const char* component_type_name(int component_type);  // "UNSIGNED_SHORT", ...
 
+// Reads a MAT4 FLOAT accessor (inverseBindMatrices), sparse substitution applied.
+std::vector<Transform> read_matrix_accessor(const tinygltf::Model& model, int index, const std::string& what,
+                                            ImportContext& context);
+
 // Reads an index accessor (SCALAR u8 / u16 / u32), sparse substitution applied.
 std::vector<uint32_t> read_index_accessor(const tinygltf::Model& model, int index, const std::string& what,
                                           ImportContext& context);

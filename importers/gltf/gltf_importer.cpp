@@ -26,6 +26,7 @@
 #include "core/available_memory.h"
 #include "core/content_hash.h"
 #include "importers/gltf/gltf_accessors.h"
+#include "importers/gltf/gltf_animation.h"
 #include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_extensions.h"
 #include "importers/gltf/gltf_image_use.h"
@@ -395,11 +396,18 @@ public:
         check_extensions();
         m_materials = std::make_unique<gltf::MaterialConverter>(m_model, *m_context);
         parse_lights();
+        if (m_options.animate) {
+            SceneAnimation& anim = m_scene.animation;
+            anim.enabled = true;
+            gltf::read_nodes(m_model, anim, *m_context);
+            gltf::read_skins(m_model, anim, *m_context);
+            gltf::read_animations(m_model, m_options.animation, anim, *m_context);
+        }
         m_mesh_entries.resize(m_model.meshes.size());
         m_mesh_uses.assign(m_model.meshes.size(), 0);
         m_visited.assign(m_model.nodes.size(), 0);
         m_on_path.assign(m_model.nodes.size(), 0);
-        for (int root : root_nodes()) visit(root, Transform{}, 0);
+        for (int root : root_nodes()) visit(root, Transform{}, 0, -1);
         finish();
         return std::move(m_scene);
     }
@@ -410,13 +418,16 @@ private:
     void parse_lights();
     void parse_blender_light(const tinygltf::Value* ext, const std::string& label, LightDef* def);
     std::vector<int> root_nodes();
-    void visit(int node_index, const Transform& parent, int depth);
+    // `placement`: the parent's SceneAnimation placement (-1 at a root), when animating.
+    void visit(int node_index, const Transform& parent, int depth, int placement);
     Transform local_transform(int node_index) const;
-    void place_mesh(int node_index, const Transform& world);
+    void place_mesh(int node_index, const Transform& world, int placement);
+    bool deforms(int node_index) const;
     std::optional<Mesh> build_primitive(int mesh_index, int primitive_index);
     std::vector<uint32_t> triangulate(int mode, const std::vector<uint32_t>& indices, const std::string& what);
     void add_camera(int node_index, const Transform& world);
-    void add_light(int node_index, const tinygltf::Value& ref, const Transform& world);
+    void add_light(int node_index, const tinygltf::Value& ref, const Transform& world, int placement);
+    std::optional<PunctualLight> make_light(int node_index, const tinygltf::Value& ref, const Transform& world);
     void finish();
     std::string node_label(int index) const {
         const std::string& name = m_model.nodes[index].name;
@@ -440,6 +451,8 @@ private:
     int m_variant = -1;  // KHR_materials_variants index chosen by ImportOptions::variant
     size_t m_skipped_line_primitives = 0, m_dropped_triangles = 0;
     std::set<int> m_draco_indices;  // index accessors given a placeholder bufferView for tinygltf
+    // Morph targets per (mesh, primitive), read once and shared by the nodes placing the mesh.
+    std::map<std::pair<int, int>, std::shared_ptr<const std::vector<MorphTarget>>> m_targets;
 };
 
 void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
@@ -617,7 +630,7 @@ std::vector<int> GltfImporter::root_nodes() {
     return roots;
 }
 
-void GltfImporter::visit(int node_index, const Transform& parent, int depth) {
+void GltfImporter::visit(int node_index, const Transform& parent, int depth, int parent_placement) {
     if (node_index < 0 || static_cast<size_t>(node_index) >= m_model.nodes.size())
         throw GltfError("node " + std::to_string(node_index) + " does not exist (the file has " +
                         std::to_string(m_model.nodes.size()) + " nodes)");
@@ -638,13 +651,23 @@ void GltfImporter::visit(int node_index, const Transform& parent, int depth) {
     const tinygltf::Node& node = m_model.nodes[node_index];
     Transform world = parent * local_transform(node_index);
     if (!all_finite(world)) throw GltfError(node_label(node_index) + " has a non-finite world transform");
-    if (node.mesh != -1) place_mesh(node_index, world);
-    if (node.camera != -1) add_camera(node_index, world);
+    int placement = -1;
+    if (m_options.animate) {
+        placement = static_cast<int>(m_scene.animation.placements.size());
+        m_scene.animation.placements.push_back(NodePlacement{node_index, parent_placement, {}, -1, -1});
+    }
+    if (node.mesh != -1) place_mesh(node_index, world, placement);
+    if (node.camera != -1) {
+        size_t before = m_scene.cameras.size();
+        add_camera(node_index, world);
+        if (placement >= 0 && m_scene.cameras.size() > before)
+            m_scene.animation.placements[size_t(placement)].camera = static_cast<int>(before);
+    }
     if (const tinygltf::Value* light = gltf::json_extension(node.extensions, "KHR_lights_punctual"))
-        add_light(node_index, *light, world);
+        add_light(node_index, *light, world, placement);
 
     m_on_path[node_index] = 1;
-    for (int child : node.children) visit(child, world, depth + 1);
+    for (int child : node.children) visit(child, world, depth + 1, placement);
     m_on_path[node_index] = 0;
 }
 
@@ -676,10 +699,51 @@ Transform GltfImporter::local_transform(int node_index) const {
     return t;
 }
 
-void GltfImporter::place_mesh(int node_index, const Transform& world) {
+bool GltfImporter::deforms(int node_index) const {
+    const tinygltf::Node& node = m_model.nodes[node_index];
+    if (node.skin >= 0) return true;
+    for (const tinygltf::Primitive& p : m_model.meshes[node.mesh].primitives)
+        if (!p.targets.empty()) return true;
+    return false;
+}
+
+void GltfImporter::place_mesh(int node_index, const Transform& world, int placement) {
     int mesh_index = m_model.nodes[node_index].mesh;
     if (mesh_index < 0 || static_cast<size_t>(mesh_index) >= m_model.meshes.size())
         throw GltfError(node_label(node_index) + ": mesh " + std::to_string(mesh_index) + " does not exist");
+    if (placement >= 0 && deforms(node_index)) {
+        // A deforming mesh gets its own Scene::Mesh per node: the weights and the skin are the
+        // node's. The rest shape is placed by the node, as without animation.
+        const tinygltf::Node& node = m_model.nodes[node_index];
+        if (node.skin >= 0 && static_cast<size_t>(node.skin) >= m_model.skins.size())
+            throw GltfError(node_label(node_index) + ": skin " + std::to_string(node.skin) + " does not exist");
+        const auto& primitives = m_model.meshes[mesh_index].primitives;
+        for (size_t p = 0; p < primitives.size(); ++p) {
+            std::optional<Mesh> mesh = build_primitive(mesh_index, static_cast<int>(p));
+            if (!mesh) continue;
+            std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
+            DeformingMesh d;
+            d.mesh = static_cast<uint32_t>(m_scene.meshes.size());
+            d.instance = static_cast<uint32_t>(m_scene.instances.size());
+            d.placement = placement;
+            size_t n = mesh->positions.size();
+            auto& targets = m_targets[{mesh_index, static_cast<int>(p)}];
+            if (!targets) targets = gltf::read_morph_targets(m_model, primitives[p], n, what, *m_context);
+            d.targets = targets;
+            if (node.skin >= 0) {
+                const SkinData& skin = m_scene.animation.skins[size_t(node.skin)];
+                gltf::read_skin_influences(m_model, primitives[p], n, skin.joints.size(), what, *m_context, d);
+                if (d.influences > 0)
+                    d.skin = node.skin;
+                else
+                    m_context->warn(what + " is skinned but has no JOINTS_0/WEIGHTS_0; placed by its node");
+            }
+            m_scene.meshes.push_back(std::move(*mesh));
+            m_scene.instances.push_back(Instance{d.mesh, world});
+            m_scene.animation.deforming.push_back(std::move(d));
+        }
+        return;
+    }
     // Each glTF mesh is converted once; every node using it adds instances of the same entries.
     auto& entries = m_mesh_entries[mesh_index];
     if (!entries) {
@@ -692,10 +756,15 @@ void GltfImporter::place_mesh(int node_index, const Transform& world) {
             }
         }
     }
-    if (m_model.nodes[node_index].skin >= 0)
+    if (m_model.nodes[node_index].skin >= 0 && placement < 0)
         m_context->warn("skins are not supported; skinned meshes are placed by their node, in bind pose");
     if (++m_mesh_uses[mesh_index] > 1 && !entries->empty()) m_scene.features.instancing = true;
-    for (uint32_t entry : *entries) m_scene.instances.push_back(Instance{entry, world});
+    for (uint32_t entry : *entries) {
+        if (placement >= 0)
+            m_scene.animation.placements[size_t(placement)].instances.push_back(
+                static_cast<uint32_t>(m_scene.instances.size()));
+        m_scene.instances.push_back(Instance{entry, world});
+    }
 }
 
 std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_index) {
@@ -712,7 +781,7 @@ std::optional<Mesh> GltfImporter::build_primitive(int mesh_index, int primitive_
         throw GltfError(what + ": invalid mode " + std::to_string(mode));
     auto has = [&](const char* name) { return prim.attributes.count(name) != 0; };
     auto attribute = [&](const char* name) { return prim.attributes.at(name); };
-    if (!prim.targets.empty()) m_context->warn("morph targets are not supported; meshes keep their base shape");
+    if (!prim.targets.empty() && !m_options.animate) m_context->warn("morph targets are not supported; meshes keep their base shape");
     if (!has("POSITION")) {
         m_context->warn(what + " has no POSITION; skipped");
         return std::nullopt;
@@ -953,13 +1022,31 @@ void GltfImporter::add_camera(int node_index, const Transform& world) {
     m_scene.cameras.push_back(cam);
 }
 
-void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const Transform& world) {
+void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const Transform& world, int placement) {
+    std::optional<PunctualLight> light = make_light(node_index, ref, world);
+    if (!light) return;
+    m_scene.lights.push_back(std::move(*light));
+    m_scene.features.punctual_lights = true;
+    if (placement < 0) return;
+    // The light in its node's space, placed again by pose_scene at every time.
+    int index = gltf::json_integer(&ref, "light", INT_MIN);
+    const LightDef& def = m_lights[index];
+    std::optional<PunctualLight> local = make_light(node_index, ref, Transform{});
+    if (!local) return;
+    SceneAnimation& anim = m_scene.animation;
+    anim.placements[size_t(placement)].light = static_cast<int>(anim.lights.size());
+    anim.lights.push_back(LocalLight{std::make_shared<const PunctualLight>(std::move(*local)),
+                                     def.color * float(def.power / 4.0)});
+}
+
+std::optional<PunctualLight> GltfImporter::make_light(int node_index, const tinygltf::Value& ref,
+                                                      const Transform& world) {
     int index = gltf::json_integer(&ref, "light", INT_MIN);
     if (index < 0 || static_cast<size_t>(index) >= m_lights.size())
         throw GltfError(node_label(node_index) + ": KHR_lights_punctual light " + std::to_string(index) +
                         " does not exist (the file has " + std::to_string(m_lights.size()) + ")");
     const LightDef& def = m_lights[index];
-    if (!def.type) return;  // unknown type, warned about once
+    if (!def.type) return std::nullopt;  // unknown type, warned about once
     PunctualLight light;
     const std::string& node_name = m_model.nodes[node_index].name;
     light.name = !def.name.empty() ? def.name : !node_name.empty() ? node_name : "light " + std::to_string(index);
@@ -995,13 +1082,12 @@ void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const T
         float area = length(cross(light.axis_u, light.axis_v)) * (light.shape == AreaShape::Rectangle ? 4.0f : k_pi);
         if (!(area > 0.0f) || !std::isfinite(area)) {
             m_context->warn(light.name + ": area light of zero size; ignored");
-            return;
+            return std::nullopt;
         }
         light.radiance = def.color * float(def.power / (4.0 * double(area)));
         light.intensity = Rgb(0.0f);
     }
-    m_scene.lights.push_back(light);
-    m_scene.features.punctual_lights = true;
+    return light;
 }
 
 void GltfImporter::finish() {

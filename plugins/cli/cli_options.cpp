@@ -1,5 +1,6 @@
 #include "cli_options.h"
 
+#include "animation_options.h"
 #include "farm_options.h"
 
 #include <glob.h>
@@ -44,6 +45,10 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
                           is (blender: Cycles' default surface, Lambertian 0.8; gltf: the
                           spec's white rough metal; auto: blender for Blender's exports)
   --variant NAME          KHR_materials_variants: render with this variant's materials
+  --frame N               render the scene at frame N: glTF time N / fps, every animation,
+                          skin and morph target evaluated (default: the file's static pose)
+  --fps F                 frames per second for --frame (default 24, Blender's)
+  --animation NAME|INDEX|all  the animation played at --frame (default all: every one at once)
   --allow-external-files  let URIs point outside the glTF's folder
   --env FILE              environment map: equirectangular (lat-long) HDR/EXR, Blender's mapping
   --env-color R,G,B       a uniform environment of this linear radiance instead
@@ -237,6 +242,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
         };
         constexpr long long int_max = std::numeric_limits<int>::max();
         if (parse_farm_render_option(args, i, cmd)) continue;  // --samples, --pixelbounds
+        if (parse_animation_option(args, i, cmd)) continue;    // --frame, --fps, --animation
         if (a == "-o" || a == "--output")
             cmd.outputs.push_back(value());
         else if (a == "--width")
@@ -370,6 +376,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             throw UsageError("several inputs need an output pattern with {stem}, e.g. -o out/{stem}.exr");
     render_opt(string_option("integrator", integrator), "unknown integrator '" + integrator + "'");
     check_farm_render_options(cmd);
+    check_animation_options(cmd);
     return cmd;
 }
 

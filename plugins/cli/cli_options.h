@@ -35,6 +35,12 @@ struct RenderCommand {
     bool skip_existing = false;      // skip inputs whose outputs are all complete
     double checkpoint_seconds = -1;  // --checkpoint: < 0 none, else the interval (0: every pass)
     bool resume = false;             // --resume: continue from the checkpoint when there is one
+    // Animation (animation_options.h): the frames to render (empty: the file's static pose),
+    // frames per second (time = frame / fps) and the animation played ("" = all).
+    std::vector<double> frames;
+    double fps = 24;
+    bool fps_given = false;
+    std::string animation;
 };
 
 // String queries through the C API's caller-buffer convention ("" when the query fails).

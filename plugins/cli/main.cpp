@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "cli_options.h"
+#include "animation_options.h"
 #include "farm_options.h"
 #include "veach/veach.h"
 
@@ -289,6 +290,17 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
     }
     for (const ApiOption& o : cmd.scene_options) {
         if (apply_scene_option(scene.h, o) != VEACH_ERROR_NONE) {
+            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
+            return k_bad_input;
+        }
+    }
+    // The frame's time and the animation played: the import evaluates them (and refuses an
+    // animation the file lacks, listing its animations, before anything is rendered).
+    if (!cmd.frames.empty()) {
+        bool ok = veachSetSceneFloat(scene.h, "time", frame_time(cmd, cmd.frames.front())) == VEACH_ERROR_NONE &&
+                  (cmd.animation.empty() || veachSetSceneString(scene.h, "animation", cmd.animation.c_str()) ==
+                                                VEACH_ERROR_NONE);
+        if (!ok) {
             std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
             return k_bad_input;
         }

@@ -51,6 +51,7 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     veach::EnvironmentOptions m_environment;
     std::string m_env_color;  // the env_color option as given ("R,G,B"), for reading back
     std::string m_source;     // the file loaded, "" for a scene from memory
+    double m_time = 0;        // seconds, the scene's animation evaluated there (m_import.animate)
     // Identifies the scene's content and every scene option for checkpoints: a checkpoint of
     // another file, variant or environment is refused.
     uint64_t m_content_hash = 0;

@@ -48,8 +48,9 @@ const OptionTable k_options{"scene option",
                              "repaired_nonfinite_triangles", "repaired_degenerate_triangles",
                              "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
                              "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
-                            {"env_strength", "env_rotate"},
-                            {"variant", "spot_falloff", "default_material", "env_map", "env_color", "source", "features", "warnings"}};
+                            {"env_strength", "env_rotate", "time"},
+                            {"variant", "spot_falloff", "default_material", "env_map", "env_color", "animation",
+                             "source", "features", "warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
@@ -106,6 +107,8 @@ uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash) {
         .field("env_b", env.color.b)
         .field("env_strength", env.strength)
         .field("env_rotate", env.rotate_degrees);
+    // Only a posed scene names its time: an unanimated one keeps the identity it always had.
+    if (s.m_import.animate) key.field("time", s.m_time).field("animation", s.m_import.animation);
     uint64_t map = veach::k_fnv_offset;
     if (!env.map_path.empty() && !veach::hash_file_content(env.map_path, &map))
         throw ApiError{VEACH_ERROR_BAD_INPUT, env.map_path + ": cannot read the environment map"};
@@ -122,6 +125,7 @@ void finish_load(VeachSceneImpl* s, veach::Scene&& scene, uint64_t content_hash)
     } catch (const std::invalid_argument& e) {
         throw ApiError{VEACH_ERROR_BAD_INPUT, e.what()};  // "FILE: fault": an unreadable map
     }
+    veach::pose_scene(scene, s->m_time);  // a scene imported without animation stays as it is
     veach::light_unlit_scene(scene);
     veach::rebase_scene(scene);
     s->m_scene = std::move(scene);
@@ -258,6 +262,10 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
         } else if (n == "env_rotate") {
             if (std::abs(value) > 1e6) throw invalid("scene option 'env_rotate' must be in [-1e6, 1e6] degrees");
             scene->m_environment.rotate_degrees = static_cast<float>(value);
+        } else if (n == "time") {
+            if (std::abs(value) > 1e9) throw invalid("scene option 'time' must be in [-1e9, 1e9] seconds");
+            scene->m_import.animate = true;
+            scene->m_time = value;
         }
         return VEACH_ERROR_NONE;
     });
@@ -306,6 +314,8 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
                 env.has_color = true;
             }
             scene->m_env_color = v;
+        } else if (n == "animation") {
+            scene->m_import.animation = v.empty() ? "all" : v;  // checked against the file by the load
         }
         return VEACH_ERROR_NONE;
     });
@@ -365,6 +375,8 @@ VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, doub
             *value = scene->m_environment.strength;
         else if (n == "env_rotate")
             *value = scene->m_environment.rotate_degrees;
+        else if (n == "time")
+            *value = scene->m_import.animate ? scene->m_time : std::numeric_limits<double>::quiet_NaN();
         return VEACH_ERROR_NONE;
     });
 }
@@ -387,6 +399,8 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
             value = scene->m_environment.map_path;
         else if (n == "env_color")
             value = scene->m_env_color;
+        else if (n == "animation")
+            value = scene->m_import.animation;
         else {
             check_loaded(scene, "veachGetSceneString");
             if (n == "source")

@@ -9,6 +9,7 @@
 
 #include "core/math.h"
 #include "core/rgb.h"
+#include "scene/scene_animation.h"
 #include "scene/scene_features.h"
 #include "textures/mip_pyramid.h"
 
@@ -224,6 +225,9 @@ struct Scene {
     std::vector<std::string> warnings;  // each said once, for the front end to print
     SceneFeatures features;
     RepairCounts repaired;
+    // Nodes, animations, skins and morph targets, when the import was asked for them
+    // (ImportOptions::animate); scene_animation.h's pose_scene evaluates them at a time.
+    SceneAnimation animation;
 
     // World-space bounds of all instanced triangles (their finite corners).
     Bounds3 bounds() const;

@@ -137,13 +137,17 @@ VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* dat
  *   int:    scene_index (glTF scene, -1 = the file's default), allow_external_files (0 or 1: URIs
  *           may point outside the file's folder)
  *   float:  env_strength (>= 0, default 1), env_rotate (degrees about +Y, as a Mapping node's Z
- *           rotation in Blender's world shader)
+ *           rotation in Blender's world shader), time (seconds, since 0.4: the scene's animations,
+ *           skins and morph targets evaluated at that time; unset, reading NaN, the file's nodes
+ *           are placed as they stand and skins and morph targets are not applied)
  *   string: variant (KHR_materials_variants; an unknown name fails the load, listing the file's),
  *           spot_falloff ("auto", "blender", "gltf"), default_material ("auto", "blender", "gltf":
  *           what a primitive without a material is; auto: Cycles' default surface, Lambertian 0.8,
  *           when asset.generator names Blender, else the glTF spec's default), env_map (an equirectangular image file;
  *           unreadable fails the load with VEACH_ERROR_BAD_INPUT), env_color ("R,G,B": a uniform
- *           linear radiance; excludes env_map)
+ *           linear radiance; excludes env_map), animation (with time: "all", the default, plays
+ *           every animation at once; else one animation's name or index; one the file lacks fails
+ *           the load with VEACH_ERROR_BAD_INPUT, listing the file's)
  * After loading, read-only: int triangles, cameras and what scene repair changed
  * (repaired_invalid_indices, repaired_nonfinite_triangles, repaired_degenerate_triangles,
  * repaired_duplicate_triangles, repaired_normals_replaced, repaired_normals_normalized,

@@ -1,0 +1,406 @@
+// Animated glTF against the glTF 2.0 spec (3.11 animations, 3.7.3 skins, 3.7.2.2 morph
+// targets): each small file is imported with ImportOptions::animate and posed by pose_scene at a
+// time whose result is computed here by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gltf_test_builder.h"
+#include "importers/importer.h"
+#include "scene/scene_animation.h"
+
+namespace veach {
+namespace {
+
+using namespace gltf_test;
+
+const float k_h = std::sqrt(0.5f);  // sin and cos of 45 degrees
+
+ImportOptions animated(const std::string& animation = "all") {
+    ImportOptions o;
+    o.animate = true;
+    o.animation = animation;
+    return o;
+}
+
+Scene posed(const GltfBuilder& b, double t, const ImportOptions& options = animated()) {
+    Scene s = load(b, options);
+    pose_scene(s, t);
+    return s;
+}
+
+Vec3 translation_of(const Transform& m) { return Vec3(m.m[0][3], m.m[1][3], m.m[2][3]); }
+
+// One animation of one channel on `node`: keys `times`, values `values` of `type`.
+void animate(GltfBuilder& b, int node, const char* path, const std::vector<float>& times,
+             const std::vector<float>& values, const char* type, const char* interpolation = "LINEAR",
+             const std::string& name = "") {
+    int input = b.accessor(times, k_float, "SCALAR");
+    int output = b.accessor(values, k_float, type);
+    json anim = {{"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}},
+                 {"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}}};
+    if (!name.empty()) anim["name"] = name;
+    b.push("animations", anim);
+}
+
+// A triangle placed by node 0, animated by `path`.
+GltfBuilder moving_triangle(const char* path, const std::vector<float>& times, const std::vector<float>& values,
+                            const char* type, const char* interpolation = "LINEAR") {
+    GltfBuilder b = triangle_scene();
+    animate(b, 0, path, times, values, type, interpolation);
+    return b;
+}
+
+// --------------------------------------------------------------------------------------------
+// Samplers
+
+TEST(GltfAnimation, LinearTranslationInterpolatesAndClampsOutsideTheKeys) {
+    GltfBuilder b = moving_triangle("translation", {1, 3}, {0, 0, 0, 2, 4, 6}, "VEC3");
+    expect_vec3(translation_of(posed(b, 2.0).instances[0].object_to_world), 1, 2, 3);    // halfway
+    expect_vec3(translation_of(posed(b, 1.5).instances[0].object_to_world), 0.5f, 1, 1.5f);
+    expect_vec3(translation_of(posed(b, 0.0).instances[0].object_to_world), 0, 0, 0);    // before: first key
+    expect_vec3(translation_of(posed(b, 10.0).instances[0].object_to_world), 2, 4, 6);   // after: last key
+}
+
+TEST(GltfAnimation, StepHoldsEachKeyUntilTheNext) {
+    GltfBuilder b = moving_triangle("translation", {1, 3}, {0, 0, 0, 2, 4, 6}, "VEC3", "STEP");
+    expect_vec3(translation_of(posed(b, 2.99).instances[0].object_to_world), 0, 0, 0);
+    expect_vec3(translation_of(posed(b, 3.0).instances[0].object_to_world), 2, 4, 6);
+}
+
+TEST(GltfAnimation, ScaleChannelScalesTheNode) {
+    GltfBuilder b = moving_triangle("scale", {0, 1}, {1, 1, 1, 3, 3, 3}, "VEC3");
+    const Transform m = posed(b, 0.5).instances[0].object_to_world;
+    EXPECT_NEAR(m.m[0][0], 2.0f, 1e-6f);
+    EXPECT_NEAR(m.m[1][1], 2.0f, 1e-6f);
+    EXPECT_NEAR(m.m[2][2], 2.0f, 1e-6f);
+}
+
+TEST(GltfAnimation, CubicSplineFollowsTheSpecsHermiteWithTangentsScaledByTheInterval) {
+    // Keys at t = 0 and 2 (td = 2); x of (in-tangent, value, out-tangent): key 0 (0, 0, 1),
+    // key 1 (3, 4, 0). At t = 0.5, u = 0.25:
+    //   h00 = 2u^3 - 3u^2 + 1, h10 = u^3 - 2u^2 + u = 0.140625, h01 = -2u^3 + 3u^2 = 0.15625,
+    //   h11 = u^3 - u^2 = -0.046875
+    //   x = h00 * 0 + td * h10 * 1 + h01 * 4 + td * h11 * 3 = 0.28125 + 0.625 - 0.28125 = 0.625.
+    GltfBuilder b = moving_triangle("translation", {0, 2}, {0, 0, 0, 0, 0, 0, 1, 0, 0, 3, 0, 0, 4, 0, 0, 0, 0, 0},
+                                    "VEC3", "CUBICSPLINE");
+    expect_vec3(translation_of(posed(b, 0.5).instances[0].object_to_world), 0.625f, 0, 0);
+    expect_vec3(translation_of(posed(b, 2.0).instances[0].object_to_world), 4, 0, 0);  // the key's value
+    expect_vec3(translation_of(posed(b, 0.0).instances[0].object_to_world), 0, 0, 0);
+}
+
+TEST(GltfAnimation, RotationSlerpsOnTheShorterArcAcrossTheSignFlip) {
+    // From identity to 90 degrees about +Y written as -q (the same rotation): halfway is 45
+    // degrees about +Y, not the 135 degrees the long way round would give.
+    GltfBuilder b = moving_triangle("rotation", {0, 1}, {0, 0, 0, 1, 0, -k_h, 0, -k_h}, "VEC4");
+    const Transform m = posed(b, 0.5).instances[0].object_to_world;
+    expect_vec3(m.vector(Vec3(1, 0, 0)), k_h, 0, -k_h);  // +X turned 45 degrees toward -Z
+    // A quarter of the way: 22.5 degrees, uniform in angle (slerp, not a normalised lerp).
+    const Transform q = posed(b, 0.25).instances[0].object_to_world;
+    const float a = k_pi / 8;
+    expect_vec3(q.vector(Vec3(1, 0, 0)), std::cos(a), 0, -std::sin(a));
+}
+
+TEST(GltfAnimation, CubicSplineRotationIsNormalised) {
+    // Tangents zero: the curve runs between identity and 90 degrees about +Z; every sample is a
+    // rotation (unit quaternion), so lengths are kept.
+    GltfBuilder b = moving_triangle(
+        "rotation", {0, 1}, {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, k_h, k_h, 0, 0, 0, 0}, "VEC4",
+        "CUBICSPLINE");
+    const Transform m = posed(b, 0.5).instances[0].object_to_world;
+    EXPECT_NEAR(length(m.vector(Vec3(1, 0, 0))), 1.0f, 1e-5f);
+    EXPECT_NEAR(m.determinant(), 1.0f, 1e-5f);
+}
+
+TEST(GltfAnimation, ChildrenFollowTheirAnimatedParent) {
+    GltfBuilder b;
+    int mesh = b.triangle_mesh();
+    b.push("nodes", {{"children", {1}}});
+    b.push("nodes", {{"mesh", mesh}, {"translation", {0, 0, 1}}});
+    b.scene({0});
+    animate(b, 0, "translation", {0, 1}, {0, 0, 0, 2, 0, 0}, "VEC3");
+    expect_vec3(translation_of(posed(b, 0.5).instances[0].object_to_world), 1, 0, 1);
+}
+
+TEST(GltfAnimation, CamerasAndLightsMoveWithTheirNodes) {
+    GltfBuilder b = light_scene("veach tests");  // nodes 0 (point at 1,2,3), 1 (sun), 2 (spot)
+    b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}});
+    b.push("nodes", {{"camera", 0}});
+    b.doc["scenes"][0]["nodes"].push_back(3);
+    animate(b, 0, "translation", {0, 1}, {1, 2, 3, 5, 2, 3}, "VEC3");
+    animate(b, 3, "translation", {0, 1}, {0, 0, 0, 0, 0, 8}, "VEC3");
+    animate(b, 2, "rotation", {0, 1}, {0, 0, 0, 1, -k_h, 0, 0, k_h}, "VEC4");  // to -90 about X
+    Scene s = posed(b, 1.0);
+    ASSERT_EQ(s.lights.size(), 3u);
+    expect_vec3(s.lights[0].position, 5, 2, 3);
+    expect_vec3(s.lights[2].direction, 0, -1, 0);  // -Z turned down
+    expect_vec3(translation_of(s.cameras[0].camera_to_world), 0, 0, 8);
+    // Time 0 is the keys' start: the file's own pose.
+    Scene rest = posed(b, 0.0);
+    expect_vec3(rest.lights[0].position, 1, 2, 3);
+    expect_vec3(rest.lights[2].direction, 0, 0, -1);
+}
+
+TEST(GltfAnimation, WithoutAnimateTheFileIsPlacedAsItStands) {
+    GltfBuilder b = moving_triangle("translation", {0, 1}, {5, 5, 5, 6, 6, 6}, "VEC3");
+    Scene s = load(b);
+    EXPECT_FALSE(s.animation.enabled);
+    pose_scene(s, 0.5);  // nothing to evaluate
+    expect_vec3(translation_of(s.instances[0].object_to_world), 0, 0, 0);
+}
+
+TEST(GltfAnimation, AnimationIsChosenByNameOrIndexAndAnUnknownOneListsTheFilesAnimations) {
+    GltfBuilder b = triangle_scene();
+    b.place(0);  // a second node
+    animate(b, 0, "translation", {0, 1}, {0, 0, 0, 1, 0, 0}, "VEC3", "LINEAR", "slide");
+    animate(b, 1, "translation", {0, 1}, {0, 0, 0, 0, 1, 0}, "VEC3", "LINEAR", "lift");
+    Scene all = posed(b, 1.0);
+    expect_vec3(translation_of(all.instances[0].object_to_world), 1, 0, 0);
+    expect_vec3(translation_of(all.instances[1].object_to_world), 0, 1, 0);
+    Scene lift = posed(b, 1.0, animated("lift"));
+    expect_vec3(translation_of(lift.instances[0].object_to_world), 0, 0, 0);
+    expect_vec3(translation_of(lift.instances[1].object_to_world), 0, 1, 0);
+    Scene first = posed(b, 1.0, animated("0"));
+    expect_vec3(translation_of(first.instances[0].object_to_world), 1, 0, 0);
+    expect_vec3(translation_of(first.instances[1].object_to_world), 0, 0, 0);
+    std::string message = expect_import_error(b, animated("walk"));
+    EXPECT_NE(message.find("no animation 'walk'"), std::string::npos) << message;
+    EXPECT_NE(message.find("'slide', 'lift'"), std::string::npos) << message;
+    EXPECT_NE(expect_import_error(b, animated("2")).find("no animation '2'"), std::string::npos);
+}
+
+// --------------------------------------------------------------------------------------------
+// Morph targets
+
+// A 3 x 3 grid in the XZ plane (x = i, z = j), normals +Y, one morph target lifting each vertex
+// by i * j and tilting its normal by +X; `weights` on the mesh.
+GltfBuilder morph_grid(const json& mesh_weights) {
+    GltfBuilder b;
+    std::vector<float> p, n, dp, dn;
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+            p.insert(p.end(), {float(i), 0, float(j)});
+            n.insert(n.end(), {0, 1, 0});
+            dp.insert(dp.end(), {0, float(i * j), 0});
+            dn.insert(dn.end(), {1, 0, 0});
+        }
+    std::vector<uint16_t> idx;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            uint16_t a = uint16_t(j * 3 + i);
+            idx.insert(idx.end(), {a, uint16_t(a + 3), uint16_t(a + 1), uint16_t(a + 1), uint16_t(a + 3), uint16_t(a + 4)});
+        }
+    json prim = {{"attributes", {{"POSITION", b.positions(p)}, {"NORMAL", b.accessor(n, k_float, "VEC3")}}},
+                 {"indices", b.accessor(idx, k_ushort, "SCALAR")},
+                 {"targets", {{{"POSITION", b.accessor(dp, k_float, "VEC3")}, {"NORMAL", b.accessor(dn, k_float, "VEC3")}}}}};
+    json mesh = {{"primitives", {prim}}};
+    if (!mesh_weights.is_null()) mesh["weights"] = mesh_weights;
+    b.push("meshes", mesh);
+    b.place(0);
+    return b;
+}
+
+void expect_grid_at(const Scene& s, float w) {
+    const Mesh& m = s.meshes[s.instances[0].mesh];
+    ASSERT_EQ(m.positions.size(), 9u);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+            expect_vec3(m.positions[size_t(j * 3 + i)], float(i), w * float(i * j), float(j));
+            Vec3 n = normalize(Vec3(w, 1, 0));  // (0,1,0) + w (1,0,0), renormalised
+            expect_vec3(m.normals[size_t(j * 3 + i)], n.x, n.y, n.z);
+        }
+}
+
+TEST(GltfAnimation, MorphGridAtHalfWeightIsTheAnalyticMidShape) {
+    expect_grid_at(posed(morph_grid(json::array({0.5})), 0.0), 0.5f);
+}
+
+TEST(GltfAnimation, MorphWeightsComeFromTheNodeThenTheMeshThenZero) {
+    expect_grid_at(posed(morph_grid(nullptr), 0.0), 0.0f);
+    GltfBuilder b = morph_grid(json::array({0.5}));
+    b.doc["nodes"][0]["weights"] = {0.25};
+    expect_grid_at(posed(b, 0.0), 0.25f);
+}
+
+TEST(GltfAnimation, AnimatedWeightsDriveTheTargets) {
+    GltfBuilder b = morph_grid(json::array({0.0}));
+    animate(b, 0, "weights", {0, 2}, {0, 1}, "SCALAR");
+    expect_grid_at(posed(b, 1.0), 0.5f);
+    expect_grid_at(posed(b, 3.0), 1.0f);
+    // The scene can be posed again at another time: it starts from the rest shape each time.
+    Scene s = posed(b, 1.0);
+    pose_scene(s, 0.5);
+    expect_grid_at(s, 0.25f);
+}
+
+TEST(GltfAnimation, SparseMorphTargetMovesOnlyItsVertices) {
+    GltfBuilder b = morph_grid(json::array({1.0}));
+    // Replace the target by a sparse accessor with no bufferView: zeros, vertex 4 lifted by 2.
+    std::vector<uint32_t> index = {4};
+    std::vector<float> value = {0, 2, 0};
+    int iv = b.view(index.data(), 4), vv = b.view(value.data(), 12);
+    int sparse = b.push("accessors", {{"componentType", k_float},
+                                      {"count", 9},
+                                      {"type", "VEC3"},
+                                      {"sparse",
+                                       {{"count", 1},
+                                        {"indices", {{"bufferView", iv}, {"componentType", k_uint}}},
+                                        {"values", {{"bufferView", vv}}}}}});
+    b.doc["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", sparse}}};
+    Scene s = posed(b, 0.0);
+    const Mesh& m = s.meshes[s.instances[0].mesh];
+    for (int v = 0; v < 9; ++v)
+        expect_vec3(m.positions[size_t(v)], float(v % 3), v == 4 ? 2.0f : 0.0f, float(v / 3));
+    expect_vec3(m.normals[0], 0, 1, 0);  // no normal delta
+}
+
+// --------------------------------------------------------------------------------------------
+// Skins
+
+// A square tube of half-width r along +Y from y = 0 to 2, rings at y = 0, 0.5, 1, 1.5, 2,
+// radial normals. Joint 0 (node 0, at the origin) moves the lower half, joint 1 (node 1, its
+// child at y = 1) the upper half, the ring at y = 1 half each. The mesh node is node 2.
+constexpr float k_r = 0.25f;
+const float k_ring_y[5] = {0, 0.5f, 1, 1.5f, 2};
+const float k_corner[4][2] = {{k_r, k_r}, {-k_r, k_r}, {-k_r, -k_r}, {k_r, -k_r}};
+
+GltfBuilder bent_tube(const json& mesh_node, std::vector<float> weights = {}, bool byte_joints = false) {
+    GltfBuilder b;
+    std::vector<float> p, n;
+    std::vector<uint16_t> joints;
+    bool given = !weights.empty();
+    for (int ring = 0; ring < 5; ++ring)
+        for (const auto& c : k_corner) {
+            p.insert(p.end(), {c[0], k_ring_y[ring], c[1]});
+            n.insert(n.end(), {c[0] * k_h / k_r, 0, c[1] * k_h / k_r});
+            joints.insert(joints.end(), {0, 1, 0, 0});
+            if (!given) {
+                float w1 = ring < 2 ? 0.0f : ring == 2 ? 0.5f : 1.0f;
+                weights.insert(weights.end(), {1 - w1, w1, 0, 0});
+            }
+        }
+    std::vector<uint16_t> idx;
+    for (int ring = 0; ring < 4; ++ring)
+        for (int k = 0; k < 4; ++k) {
+            uint16_t a = uint16_t(ring * 4 + k), b2 = uint16_t(ring * 4 + (k + 1) % 4);
+            idx.insert(idx.end(), {a, b2, uint16_t(a + 4), b2, uint16_t(b2 + 4), uint16_t(a + 4)});
+        }
+    int joints_accessor = byte_joints ? b.accessor(std::vector<uint8_t>(joints.begin(), joints.end()), k_ubyte, "VEC4")
+                                      : b.accessor(joints, k_ushort, "VEC4");
+    json prim = {{"attributes",
+                  {{"POSITION", b.positions(p)},
+                   {"NORMAL", b.accessor(n, k_float, "VEC3")},
+                   {"JOINTS_0", joints_accessor},
+                   {"WEIGHTS_0", b.accessor(weights, k_float, "VEC4")}}},
+                 {"indices", b.accessor(idx, k_ushort, "SCALAR")}};
+    b.push("meshes", {{"primitives", {prim}}});
+    // Inverse bind matrices, column-major: identity, and translation (0, -1, 0).
+    std::vector<float> ibm = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,
+                              1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1};
+    int ibm_accessor = b.push("accessors", {{"bufferView", b.view(ibm.data(), ibm.size() * 4)},
+                                            {"componentType", k_float},
+                                            {"count", 2},
+                                            {"type", "MAT4"}});
+    b.push("skins", {{"joints", {0, 1}}, {"inverseBindMatrices", ibm_accessor}});
+    b.push("nodes", {{"children", {1}}});
+    b.push("nodes", {{"translation", {0, 1, 0}}});
+    json node = mesh_node;
+    node["mesh"] = 0;
+    node["skin"] = 0;
+    b.push("nodes", node);
+    b.scene({0, 2});
+    // Joint 1 turns from identity to 90 degrees about +Z between t = 0 and 1.
+    animate(b, 1, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, k_h, k_h}, "VEC4");
+    return b;
+}
+
+// World position of tube vertex (ring, corner) bent by 90 degrees at the joint (0, 1, 0):
+// below, unchanged; above, Rz(90) about the joint: (x, y, z) -> (-(y - 1), 1 + x, z); the ring
+// at the joint, the average of the two.
+Vec3 bent(int ring, int corner) {
+    float x = k_corner[corner][0], y = k_ring_y[ring], z = k_corner[corner][1];
+    Vec3 rest(x, y, z), turned(-(y - 1), 1 + x, z);
+    if (ring < 2) return rest;
+    if (ring > 2) return turned;
+    return (rest + turned) * 0.5f;
+}
+
+void expect_bent(const Scene& s, float offset_x = 0) {
+    ASSERT_EQ(s.meshes.size(), 1u);
+    const Mesh& m = s.meshes[0];
+    const Transform& world = s.instances[0].object_to_world;
+    for (int ring = 0; ring < 5; ++ring)
+        for (int c = 0; c < 4; ++c) {
+            Vec3 want = bent(ring, c);
+            Vec3 got = world.point(m.positions[size_t(ring * 4 + c)]);
+            expect_vec3(got, want.x + offset_x, want.y, want.z);
+        }
+}
+
+TEST(GltfAnimation, TwoJointTubeBentNinetyDegreesMatchesHandComputedVertices) {
+    Scene rest = posed(bent_tube(json::object()), 0.0);
+    const Mesh& m = rest.meshes[0];
+    expect_vec3(m.positions[19], k_r, 2, -k_r);  // at t = 0 the bind pose
+    Scene s = posed(bent_tube(json::object()), 1.0);
+    expect_bent(s);
+    // Normals turn with their joint: the top ring's radial (x, 0, z) becomes (0, x, z).
+    const Mesh& bentm = s.meshes[0];
+    expect_vec3(bentm.normals[16], 0, k_h, k_h);
+    expect_vec3(bentm.normals[0], k_h, 0, k_h);  // the bottom ring stays
+}
+
+TEST(GltfAnimation, SkinnedMeshNodesOwnTransformIsIgnored) {
+    // glTF 3.7.3.1: only the joints place a skinned mesh; the mesh node's translation, however
+    // large, moves nothing.
+    expect_bent(posed(bent_tube({{"translation", {100, 0, 0}}, {"scale", {3, 3, 3}}}), 1.0));
+}
+
+TEST(GltfAnimation, SkinWeightsNotSummingToOneAreNormalised) {
+    // Every vertex weighted (2, 2): normalised to (0.5, 0.5), the joint ring's blend everywhere.
+    std::vector<float> w;
+    for (int v = 0; v < 20; ++v) w.insert(w.end(), {2, 2, 0, 0});
+    Scene s = posed(bent_tube(json::object(), w, true), 1.0);
+    const Mesh& m = s.meshes[0];
+    for (int ring = 0; ring < 5; ++ring)
+        for (int c = 0; c < 4; ++c) {
+            float x = k_corner[c][0], y = k_ring_y[ring], z = k_corner[c][1];
+            Vec3 want = (Vec3(x, y, z) + Vec3(-(y - 1), 1 + x, z)) * 0.5f;
+            Vec3 got = m.positions[size_t(ring * 4 + c)];
+            expect_vec3(got, want.x, want.y, want.z);
+        }
+    EXPECT_EQ(count_warnings(s, "do not sum to 1"), 1u);
+}
+
+TEST(GltfAnimation, NormalisedUnsignedShortWeightsAndASecondInfluenceSet) {
+    // WEIGHTS_0 holds joint 0 at 65535/65535 for the bottom ring only; everything else takes its
+    // weight from JOINTS_1/WEIGHTS_1 (joint 1, normalised u16): the top rings follow joint 1.
+    GltfBuilder b = bent_tube(json::object());
+    std::vector<uint16_t> w0, w1, j1;
+    for (int v = 0; v < 20; ++v) {
+        bool bottom = v < 4;
+        w0.insert(w0.end(), {uint16_t(bottom ? 65535 : 0), 0, 0, 0});
+        w1.insert(w1.end(), {uint16_t(bottom ? 0 : 65535), 0, 0, 0});
+        j1.insert(j1.end(), {1, 0, 0, 0});
+    }
+    json& attributes = b.doc["meshes"][0]["primitives"][0]["attributes"];
+    attributes["WEIGHTS_0"] = b.accessor(w0, k_ushort, "VEC4", true);
+    attributes["WEIGHTS_1"] = b.accessor(w1, k_ushort, "VEC4", true);
+    attributes["JOINTS_1"] = b.accessor(j1, k_ushort, "VEC4");
+    Scene s = posed(b, 1.0);
+    const Mesh& m = s.meshes[0];
+    expect_vec3(m.positions[0], k_r, 0, k_r);                  // joint 0: unchanged
+    expect_vec3(m.positions[16], -(2 - 1), 1 + k_r, k_r);       // joint 1: turned
+    expect_vec3(m.positions[4], -(0.5f - 1), 1 + k_r, k_r);     // joint 1 below the joint too
+}
+
+TEST(GltfAnimation, JointIndexPastTheSkinIsBadInput) {
+    GltfBuilder b = bent_tube(json::object());
+    std::vector<uint16_t> j(80, 0);
+    j[0] = 7;
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = b.accessor(j, k_ushort, "VEC4");
+    std::string message = expect_import_error(b, animated());
+    EXPECT_NE(message.find("is not one of the skin's 2"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace veach
