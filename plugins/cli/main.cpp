@@ -9,8 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -139,29 +141,71 @@ std::string json_escape(const std::string& s) {
     return out;
 }
 
-// Progress on stderr: a bar with an ETA on a terminal, plain lines otherwise (logs, CI).
+// Progress on stderr: a bar with an ETA on a terminal; in logs (farm managers, CI), a plain line
+// at every pass and at least every VEACH_PROGRESS_INTERVAL seconds (5) between passes, so that a stall
+// detector watching the log sees life even in passes that take minutes:
+//   Progress: [2/5] shot_010.gltf 42% elapsed 12.3s ETA 17.0s
+// ("[i/n] FILE " only in batches; "ETA -" until the first pass gives an estimate). No line before
+// a render has run VEACH_PROGRESS_INTERVAL seconds or finished a pass, so that bad input found as
+// the render starts (a checkpoint of another render) is still the one line on stderr. The library
+// calls update() on its rendering thread after each pass, the main thread calls heartbeat()
+// while it waits; a mutex orders the two.
 class ProgressPrinter {
 public:
-    explicit ProgressPrinter(bool quiet) : m_quiet(quiet), m_tty(isatty(STDERR_FILENO)) {}
+    ProgressPrinter(bool quiet, std::string label)
+        : m_quiet(quiet), m_tty(isatty(STDERR_FILENO)), m_label(std::move(label)), m_start(clock::now()),
+          m_last_line(m_start) {
+        // VEACH_PROGRESS_INTERVAL (seconds, default 5): how long a log may go without a line.
+        if (const char* v = std::getenv("VEACH_PROGRESS_INTERVAL")) {
+            char* end = nullptr;
+            double x = std::strtod(v, &end);
+            if (end != v && *end == '\0' && x > 0 && x <= 3600) m_interval = x;
+        }
+    }
     void update(double fraction, double eta) {
         if (m_quiet) return;
-        int percent = static_cast<int>(std::floor(fraction * 100.0));
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_fraction = fraction;
+        m_eta = eta;
+        m_estimated = true;
         if (m_tty) {
             int filled = static_cast<int>(fraction * 30);
-            std::fprintf(stderr, "\r[%-30s] %3d%%  ETA %5.1fs", std::string(filled, '#').c_str(), percent, eta);
+            std::fprintf(stderr, "\r%s[%-30s] %3d%%  ETA %5.1fs", m_label.c_str(), std::string(filled, '#').c_str(),
+                         percent(), eta);
             std::fflush(stderr);
-        } else if (percent != m_last) {
-            std::fprintf(stderr, "Progress: %d%%\n", percent);
+        } else {
+            print_line();
         }
-        m_last = percent;
+    }
+    void heartbeat() {
+        if (m_quiet || m_tty) return;
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (seconds_since(m_last_line) >= m_interval) print_line();
     }
     void finish() {
         if (!m_quiet && m_tty) std::fprintf(stderr, "\n");
     }
 
 private:
+    using clock = std::chrono::steady_clock;
+    static double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
+    int percent() const { return static_cast<int>(std::floor(std::clamp(m_fraction, 0.0, 1.0) * 100.0)); }
+    void print_line() {
+        char eta[32] = "-";
+        if (m_estimated) std::snprintf(eta, sizeof(eta), "%.1fs", m_eta);
+        std::fprintf(stderr, "Progress: %s%d%% elapsed %.1fs ETA %s\n", m_label.c_str(), percent(),
+                     seconds_since(m_start), eta);
+        std::fflush(stderr);
+        m_last_line = clock::now();
+    }
+
     bool m_quiet, m_tty;
-    int m_last = -1;
+    std::string m_label;
+    std::mutex m_mutex;
+    clock::time_point m_start, m_last_line;
+    double m_fraction = 0, m_eta = 0;
+    bool m_estimated = false;
+    double m_interval = 5.0;
 };
 
 // Called by the library on its rendering thread after each pass.
@@ -220,12 +264,13 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
 // Renders on the library's own thread while this one watches for a stop signal: the signal
 // handler only sets g_cancel, and veachCancelRender is called here, in ordinary code, within
 // 20 ms of it. Returns the final status (the last error holds a failure's message).
-VeachStatus render_and_watch(VeachRender render) {
+VeachStatus render_and_watch(VeachRender render, ProgressPrinter& progress) {
     if (veachRenderAsync(render) != VEACH_ERROR_NONE) return VEACH_STATUS_FAILED;
     bool cancelled = false;
     for (;;) {
         VeachStatus status = veachWaitRender(render, 20);
         if (status != VEACH_STATUS_RUNNING) return status;
+        progress.heartbeat();
         if (!cancelled && g_cancel.load()) {
             veachCancelRender(render);
             cancelled = true;
@@ -267,7 +312,9 @@ bool output_complete(VeachDevice device, VeachRender options, const std::string&
            value("veach:pixelbounds") == render_string(options, "pixelbounds");
 }
 
-int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachRender options) {
+// `index` of `count` inputs (counted from 1), for the batch's progress lines.
+int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachRender options,
+               size_t index, size_t count) {
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a, clock::time_point b) {
         return std::chrono::duration<double>(b - a).count();
@@ -334,11 +381,13 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
         veachSetFloat(render.h, "checkpoint_interval", cmd.checkpoint_seconds);  // < 0: never written
         veachSetInt(render.h, "resume", cmd.resume ? 1 : 0);
     }
-    ProgressPrinter progress(cmd.quiet);
+    const std::string label =
+        count > 1 ? "[" + std::to_string(index) + "/" + std::to_string(count) + "] " + input + " " : std::string();
+    ProgressPrinter progress(cmd.quiet, label);
     veachSetProgressFunction(render.h, on_progress, &progress);
     const long long spp_requested = render_int(render.h, "spp");
 
-    VeachStatus status = render_and_watch(render.h);
+    VeachStatus status = render_and_watch(render.h, progress);
     if (status == VEACH_STATUS_FAILED) {
         VeachError e = veachGetLastErrorCode();
         const char* message = veachGetLastError();
@@ -493,9 +542,9 @@ int run(int argc, char** argv) {
     if (int rc = check_outputs(device.h, cmd, options.render.h); rc != k_ok) return rc;
     install_stop_handlers();
     int worst = k_ok;
-    for (const std::string& input : cmd.inputs) {
+    for (size_t i = 0; i < cmd.inputs.size(); ++i) {
         if (g_cancel.load()) return k_interrupted;
-        int rc = render_one(device.h, cmd, input, options.render.h);
+        int rc = render_one(device.h, cmd, cmd.inputs[i], options.render.h, i + 1, cmd.inputs.size());
         if (rc == k_interrupted) return k_interrupted;
         worst = std::max(worst, rc);
     }

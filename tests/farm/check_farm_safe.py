@@ -13,10 +13,14 @@ What must hold:
   (SIGTERM after its first checkpoint) is rendered again and resumed from its checkpoint with
   --resume; a part of another range or tile, an interrupted part, or a file that is no image is
   rendered again; a complete image or part is skipped.
+- Progress in logs (stderr not a terminal): "Progress: [i/n] FILE N% elapsed Xs ETA Ys" lines
+  ("[i/n] FILE" in batches only): one at every pass, and one whenever
+  VEACH_PROGRESS_INTERVAL seconds (default 5) pass without one, so a stall detector sees life.
 Exit 0 pass, 1 fail.
 """
 import argparse
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -198,6 +202,56 @@ def check_skip_existing(veach, scene, tmp):
     check(r.returncode == 0 and "skipped" not in r.stderr, f"an unreadable file was taken as complete: {r.stderr}")
 
 
+PROGRESS = re.compile(r"^Progress: (\[(\d+)/(\d+)\] (.+) )?(\d+)% elapsed ([0-9.]+)s ETA ([0-9.]+s|-)$")
+
+
+def check_progress(veach, scene, tmp):
+    # In a log (stderr a pipe): a line at every pass, and one whenever
+    # VEACH_PROGRESS_INTERVAL seconds (5 by default; 0.5 here, so that a render of a few seconds
+    # has passes longer than it) pass without one. The gaps are read from the command's own
+    # "elapsed", with slack for a loaded machine.
+    interval = 0.5
+    env = dict(os.environ, VEACH_PROGRESS_INTERVAL=str(interval))
+    spp = 48  # passes of 1, 2, 4, 8, 16, 16 and 1 samples: 7 passes
+    r = run(veach, "render", scene, "-o", os.path.join(tmp, "p.exr"), "--width", "96", "--height", "96",
+            "--spp", str(spp), "--integrator", "bdpt", "--threads", "1", env=env)
+    if not check(r.returncode == 0, f"progress render: {r.stderr.strip()}"):
+        return
+    lines = [l for l in r.stderr.splitlines() if l.startswith("Progress:")]
+    parsed = [PROGRESS.match(l) for l in lines]
+    check(all(parsed), f"progress lines not in the documented form: {[l for l, m in zip(lines, parsed) if not m]}")
+    parsed = [m for m in parsed if m]
+    if not check(len(parsed) >= 7, f"expected a line per pass (7), got {lines}"):
+        return
+    check(parsed[-1].group(5) == "100", f"the last line is not 100%: {lines[-1]}")
+    percents = [int(m.group(5)) for m in parsed]
+    check(percents == sorted(percents), f"progress went backwards: {percents}")
+    elapsed = [float(m.group(6)) for m in parsed]
+    gaps = [b - a for a, b in zip(elapsed, elapsed[1:])]
+    check(max(gaps) <= interval + 2.0, f"{max(gaps):.1f}s between lines (interval {interval}s): {lines}")
+    # Lines between passes: the same percent twice, printed by the heartbeat, not by a pass.
+    repeats = sum(1 for a, b in zip(percents, percents[1:]) if a == b)
+    if elapsed[-1] > 4 * interval:
+        check(repeats >= 1, f"a render of {elapsed[-1]:.1f}s printed no line between passes: {lines}")
+    check(not any(m.group(1) for m in parsed), f"a single input's lines carry [i/n]: {lines}")
+
+    # A batch: "[i/n] FILE" on every line, each input in turn.
+    other = os.path.join(tmp, "second.gltf")
+    shutil.copy(scene, other)
+    shutil.copy(os.path.splitext(scene)[0] + ".bin", tmp)
+    r = run(veach, "render", scene, other, "-o", os.path.join(tmp, "{stem}_b.exr"), "--width", "16", "--spp", "2",
+            "--integrator", "pt")
+    lines = [l for l in r.stderr.splitlines() if l.startswith("Progress:")]
+    parsed = [PROGRESS.match(l) for l in lines]
+    check(r.returncode == 0 and lines and all(m and m.group(1) for m in parsed), f"batch progress lacks [i/n]: {lines}")
+    if all(parsed):
+        seen = [(m.group(2), m.group(3), m.group(4)) for m in parsed]
+        check(("1", "2", scene) in seen and ("2", "2", other) in seen, f"batch progress: {seen}")
+    # --quiet: no progress at all.
+    r = run(veach, "render", scene, "-o", os.path.join(tmp, "q.exr"), "--width", "16", "--spp", "2", "-q")
+    check(not any(l.startswith("Progress:") for l in r.stderr.splitlines()), f"--quiet printed progress: {r.stderr}")
+
+
 def main():
     global ONLY
     ap = argparse.ArgumentParser()
@@ -206,7 +260,7 @@ def main():
     ap.add_argument("--only")
     args = ap.parse_args()
     ONLY = args.only
-    groups = [("outputs", check_outputs_first), ("skip", check_skip_existing)]
+    groups = [("outputs", check_outputs_first), ("skip", check_skip_existing), ("progress", check_progress)]
     for name, fn in groups:
         if ONLY and name != ONLY:
             continue

@@ -78,8 +78,11 @@ def interrupted_by(veach, scene, folder, sig):
     proc = subprocess.Popen([veach, "render", scene, "-o", out, "--width", "40", "--spp", str(requested),
                              "--integrator", "pt", "--threads", "2"],
                             stderr=subprocess.PIPE, text=True)
-    # Non-terminal progress prints one line per finished pass: the first means spp >= 1.
+    # Non-terminal progress prints a line as the render starts ("ETA -": no pass yet), then one per
+    # finished pass: the first with an ETA means spp >= 1.
     line = proc.stderr.readline()
+    while line.startswith("Progress:") and line.rstrip().endswith("ETA -"):
+        line = proc.stderr.readline()
     check(line.startswith("Progress:"), f"{sig.name}: expected a progress line, got {line!r}")
     time.sleep(0.2)
     check(not os.path.exists(out), f"{sig.name}: {out} exists before the render finished")
