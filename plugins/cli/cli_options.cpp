@@ -28,7 +28,8 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --spp N                 samples per pixel (default 64)
   --time SECONDS          stop after this long (whichever of --spp and --time comes first)
   --seed N                random seed (default 0)
-  --threads N             worker threads (default: all cores)
+  --threads N             worker threads (default: the CPUs this process may use: its
+                          affinity mask and cgroup CPU quota, e.g. taskset or a farm's binding)
   --integrator NAME       bdpt (default: bidirectional path tracing), pt (path tracing) or
                           lt (light tracing alone, for verification)
   --sampler KIND          sobol (default: Owen-scrambled Sobol pairs for the first dimensions)

@@ -164,7 +164,8 @@ const OptionTable k_options{
      "result_complete",
      "result_camera_samples",
      "result_rays",
-     "result_nonfinite_samples"},
+     "result_nonfinite_samples",
+     "result_threads"},
     {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress", "eta_seconds",
      "render_seconds", "build_seconds"},
     {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes", "checkpoint",
@@ -503,6 +504,8 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
             *value = r ? static_cast<long long>(r->stats.rays) : 0;
         else if (n == "result_nonfinite_samples")
             *value = r ? static_cast<long long>(r->stats.nonfinite_samples) : 0;
+        else if (n == "result_threads")
+            *value = r ? r->stats.threads : 0;
         return VEACH_ERROR_NONE;
     });
 }

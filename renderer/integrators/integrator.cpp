@@ -1,5 +1,7 @@
 #include "integrators/integrator.h"
 
+#include "core/available_cpus.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -115,10 +117,13 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
         return static_cast<uint64_t>(std::max(0, s - origin)) * pixels;
     };
 
-    int threads = settings.threads > 0 ? settings.threads : tbb::task_arena::automatic;
+    // Not TBB's automatic count: that is the machine's (or the affinity mask's) cores, while a
+    // farm task's share of a node is often a cgroup quota too.
+    const int threads = settings.threads > 0 ? settings.threads : available_cpus();
     tbb::task_arena arena(threads);
 
     RenderStats stats;
+    stats.threads = threads;
     std::atomic<uint64_t> rays{0}, nonfinite{0}, pass_samples{0};
     std::atomic<bool> stop_tiles{false};
     auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };

@@ -21,7 +21,7 @@ struct RenderSettings {
     double time_limit = 0;  // seconds, 0 = none: stop at whichever of spp and time comes first
     uint64_t seed = 0;
     int max_depth = 64;                        // maximum number of scattering events on a path
-    int threads = 0;                           // 0 = all cores
+    int threads = 0;                           // 0 = the CPUs the process may use (core/available_cpus)
     std::string integrator = "bdpt";           // bdpt, pt or lt
     int bdpt_s = -1, bdpt_t = -1;              // bdpt: render only strategy (s, t), unweighted
     SamplerKind sampler = SamplerKind::Sobol;  // Owen-scrambled Sobol pairs, or independent
@@ -67,6 +67,7 @@ struct RenderStats {
     double mean_spp = 0;  // camera samples per pixel actually taken, averaged over the image
     double seconds = 0;
     bool cancelled = false;
+    int threads = 0;  // the worker threads the render ran on
 };
 
 // Per-thread counters, merged once per tile.

@@ -16,9 +16,12 @@ What must hold:
 - Progress in logs (stderr not a terminal): "Progress: [i/n] FILE N% elapsed Xs ETA Ys" lines
   ("[i/n] FILE" in batches only): one at every pass, and one whenever
   VEACH_PROGRESS_INTERVAL seconds (default 5) pass without one, so a stall detector sees life.
+- --threads defaults to the CPUs the process may use: under `taskset -c` of one CPU the render
+  runs on one thread (--stats-json "threads"), unrestricted on no more than the mask holds.
 Exit 0 pass, 1 fail.
 """
 import argparse
+import json
 import os
 import re
 import shutil
@@ -252,6 +255,28 @@ def check_progress(veach, scene, tmp):
     check(not any(l.startswith("Progress:") for l in r.stderr.splitlines()), f"--quiet printed progress: {r.stderr}")
 
 
+def check_threads(veach, scene, tmp):
+    # The default thread count is the CPUs the process may use, as --stats-json reports what the
+    # render ran on: one under `taskset -c` of one CPU, and no more than the mask allows without.
+    stats = os.path.join(tmp, "stats.json")
+    small = ["--width", "16", "--height", "16", "--spp", "1", "--integrator", "pt", "-q", "--stats-json", stats]
+    first = str(sorted(os.sched_getaffinity(0))[0])
+    r = subprocess.run(["taskset", "-c", first, veach, "render", scene, "-o", os.path.join(tmp, "t1.exr"), *small],
+                       capture_output=True, text=True, timeout=120)
+    if check(r.returncode == 0, f"render under taskset: {r.stderr.strip()}"):
+        got = json.load(open(stats))["threads"]
+        check(got == 1, f"taskset -c {first}: the render ran on {got} threads, not 1")
+    r = run(veach, "render", scene, "-o", os.path.join(tmp, "t2.exr"), *small)
+    if check(r.returncode == 0, f"render: {r.stderr.strip()}"):
+        allowed = len(os.sched_getaffinity(0))
+        got = json.load(open(stats))["threads"]
+        check(1 <= got <= allowed, f"default threads {got}, the process may use {allowed}")
+    r = run(veach, "render", scene, "-o", os.path.join(tmp, "t3.exr"), *small, "--threads", "3")
+    if check(r.returncode == 0, f"render --threads 3: {r.stderr.strip()}"):
+        got = json.load(open(stats))["threads"]
+        check(got == 3, f"--threads 3 ran on {got} threads")
+
+
 def main():
     global ONLY
     ap = argparse.ArgumentParser()
@@ -260,7 +285,7 @@ def main():
     ap.add_argument("--only")
     args = ap.parse_args()
     ONLY = args.only
-    groups = [("outputs", check_outputs_first), ("skip", check_skip_existing), ("progress", check_progress)]
+    groups = [("outputs", check_outputs_first), ("skip", check_skip_existing), ("progress", check_progress), ("threads", check_threads)]
     for name, fn in groups:
         if ONLY and name != ONLY:
             continue

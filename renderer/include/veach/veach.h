@@ -179,7 +179,8 @@ VEACH_API void veachReleaseRender(VeachRender render);
 
 /* Options (the name decides the type; a wrong type or unknown name is VEACH_ERROR_INVALID_ARGUMENT):
  *   int:    width (default 1920), height (0 = from the camera's aspect), spp (64), seed (0),
- *           max_depth (64), threads (0 = all cores), bits (PNG/TIFF: 8 or 16), quality (JPEG),
+ *           max_depth (64), threads (0 = the CPUs the process may use: its affinity mask, lowered
+ *           to a cgroup CPU quota, since 0.6), bits (PNG/TIFF: 8 or 16), quality (JPEG),
  *           half (EXR half floats: 0 or 1), aovs (1: record the depth, normal and albedo passes),
  *           bdpt_s, bdpt_t (bdpt: render only the strategy with s light and t camera vertices,
  *           unweighted, for verification; -1 = all), resume (0 or 1: start from the checkpoint
@@ -210,7 +211,8 @@ VEACH_API void veachReleaseRender(VeachRender render);
  * Results, read-only, through the getters: int result_width, result_height, result_spp (samples
  *   every pixel completed), result_resumed_spp (from the checkpoint), result_complete (1 unless
  *   cancelled before the requested samples), result_camera_samples, result_rays,
- *   result_nonfinite_samples (dropped); float progress, eta_seconds, render_seconds,
+ *   result_nonfinite_samples (dropped), result_threads (since 0.6: the worker threads the
+ *   render ran on); float progress, eta_seconds, render_seconds,
  *   build_seconds; string result_camera, result_integrator (the one that rendered),
  *   result_warnings. Every option can be read back too. */
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value);
