@@ -21,6 +21,7 @@ packages=(
   fonts-dejavu-core  # the titles of `make gallery`'s contact sheet
   slurm-wlm munge  # tests/farm/check_slurm_cluster.py starts a single-node cluster (as root)
   zlib1g-dev       # part files (.vpart) are zlib streams
+  nodejs           # the Flamenco job type's test (tests/farm/test_flamenco_job.js, node:test)
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(blender gnuplot-nox)
