@@ -9,7 +9,10 @@ Time against error, measured side by side in one run on this machine:
     BVH on all threads (veach_ray_bench), and the renderer's rays/s as a fraction of it;
   - Cycles at equal render time when Blender is installed (the reference settings of
     scripts/blender/cycles_setup.py with a render time limit), and our efficiency over Cycles';
-  - 2 threads against 1 thread (samples/s, pt, cornell).
+  - 2 threads against 1 thread (samples/s, pt, cornell);
+  - farm parts' overhead: 16 parts of 64 spp merged against one 1024-spp render (CPU time), part
+    file bytes per pixel, and the merge time of 16 parts of a 1920x1080 frame (--only-parts runs
+    this alone).
 Writes the tables into the markdown file between the BENCH markers and log-log plots of relMSE
 against time next to it (docs/bench/NAME.png, with gnuplot). Ratios are the headline numbers:
 absolute seconds depend on the machine and its load."""
@@ -28,6 +31,7 @@ ap.add_argument("--scenes", default="cornell,textured,lights,spheres,corridor")
 ap.add_argument("--integrators", default="pt,bdpt")
 ap.add_argument("--no-cycles", action="store_true")
 ap.add_argument("--markdown", default=os.path.join(ROOT, "docs", "BENCHMARKS.md"))
+ap.add_argument("--only-parts", action="store_true", help="only the farm parts' overhead section")
 args = ap.parse_args()
 budgets = [float(b) for b in args.budgets.split(",")]
 veach = os.path.join(args.build, "veach")
@@ -89,6 +93,75 @@ def ray_limit(scene):
     p = run([ray_bench, os.path.join(SCENES, scene, scene + ".gltf"), "--seconds", "2"])
     return json.loads(p.stdout)["rays_per_second"]
 
+
+# Farm parts' overhead: one frame rendered as 16 parts of 64 spp and merged, against one 1024-spp
+# render of the same frame on the same machine (CPU time of the child processes, user + sys: the
+# parts pay scene load, BVH build and part writing 16 times); the part file's size per pixel; and
+# the merge of 16 parts of a 1920x1080 frame (parts of 1 spp at depth 2, since only their size
+# matters to the merge).
+def cpu_seconds(cmds):
+    before = os.times()
+    for c in cmds:
+        run(c)
+    after = os.times()
+    return (after.children_user - before.children_user) + (after.children_system - before.children_system)
+
+
+def parts_overhead():
+    import time
+    scene = os.path.join(SCENES, "cornell", "cornell.gltf")
+    size = ["--width", "128", "--height", "128", "--integrator", "pt", "--threads", "1", "--quiet"]
+    single = cpu_seconds([[veach, "render", scene, "-o", os.path.join(tmp, "single.exr"), "--spp", "1024", *size]])
+    parts = [os.path.join(tmp, "p%02d.vpart" % c) for c in range(16)]
+    split = cpu_seconds([[veach, "render", scene, "-o", parts[c], "--spp", "1024", "--samples",
+                          "%d:%d" % (64 * c, 64 * (c + 1)), *size] for c in range(16)])
+    split += cpu_seconds([[veach, "merge", *parts, "--expect-spp", "1024", "-o", os.path.join(tmp, "merged.exr"),
+                           "--quiet"]])
+    small = sum(os.path.getsize(p) for p in parts) / 16 / (128 * 128)
+    big = [os.path.join(tmp, "hd%02d.vpart" % c) for c in range(16)]
+    for c in range(16):
+        run([veach, "render", scene, "-o", big[c], "--width", "1920", "--height", "1080", "--spp", "16",
+             "--samples", "%d:%d" % (c, c + 1), "--integrator", "pt", "--max-depth", "2", "--quiet"])
+    hd = sum(os.path.getsize(p) for p in big) / 16 / (1920 * 1080)
+    t0 = time.monotonic()
+    run([veach, "merge", *big, "--expect-spp", "16", "-o", os.path.join(tmp, "hd.exr"), "--quiet"])
+    merge_exr = time.monotonic() - t0
+    t0 = time.monotonic()
+    run([veach, "merge", *big, "--expect-spp", "16", "-o", os.path.join(tmp, "hd.vpart"), "--quiet"])
+    merge_part = time.monotonic() - t0
+    bdpt = os.path.join(tmp, "bdpt.vpart")
+    run([veach, "render", scene, "-o", bdpt, "--width", "1920", "--height", "1080", "--spp", "16", "--samples", "0:1",
+         "--integrator", "bdpt", "--max-depth", "2", "--quiet"])
+    hd_bdpt = os.path.getsize(bdpt) / (1920 * 1080)
+    lines = [
+        "| measure | value |",
+        "|---|---|",
+        "| CPU seconds, one 1024-spp render (cornell 128x128, pt, 1 thread) | %.2f |" % single,
+        "| CPU seconds, 16 parts of 64 spp + merge | %.2f |" % split,
+        "| parts / single | %.3f |" % (split / single),
+        "| part file bytes per pixel, 128x128 pt part | %.1f |" % small,
+        "| part file bytes per pixel, 1920x1080 pt part (1 spp) | %.1f |" % hd,
+        "| part file bytes per pixel, 1920x1080 bdpt part (1 spp; full-frame splats) | %.1f |" % hd_bdpt,
+        "| merge 16 parts of 1920x1080 into an EXR, seconds (wall) | %.2f |" % merge_exr,
+        "| merge 16 parts of 1920x1080 into a .vpart, seconds (wall) | %.2f |" % merge_part,
+    ]
+    return "\n".join(lines)
+
+
+def write_section(begin, end, table):
+    if args.markdown and os.path.exists(args.markdown):
+        text = open(args.markdown).read()
+        if begin in text and end in text:
+            text = text[: text.index(begin) + len(begin)] + "\n" + table + "\n" + text[text.index(end):]
+            open(args.markdown, "w").write(text)
+
+
+parts_table = parts_overhead()
+print(parts_table)
+write_section("<!-- PARTS:BEGIN -->", "<!-- PARTS:END -->", parts_table)
+if args.only_parts:
+    shutil.rmtree(tmp, ignore_errors=True)
+    sys.exit(0)
 
 have_cycles = not args.no_cycles and shutil.which("blender") is not None
 results = {}
@@ -220,10 +293,5 @@ if shutil.which("gnuplot"):
               "set ylabel 'relMSE'; set title '%s'; plot %s" % (os.path.join(plot_dir, scene + ".png"), scene, plot))
         subprocess.run(["gnuplot", "-e", gp], check=False)
 
-if args.markdown and os.path.exists(args.markdown):
-    text = open(args.markdown).read()
-    begin, end = "<!-- BENCH:BEGIN -->", "<!-- BENCH:END -->"
-    if begin in text and end in text:
-        text = text[: text.index(begin) + len(begin)] + "\n" + table + "\n" + text[text.index(end):]
-        open(args.markdown, "w").write(text)
+write_section("<!-- BENCH:BEGIN -->", "<!-- BENCH:END -->", table)
 shutil.rmtree(tmp, ignore_errors=True)
