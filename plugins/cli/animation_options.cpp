@@ -8,6 +8,9 @@
 namespace veach::cli {
 namespace {
 
+// Blender's frame range.
+constexpr long long k_min_frame = -1048574, k_max_frame = 1048574;
+
 double number(const std::string& option, const std::string& value, double lo, double hi, bool integer) {
     errno = 0;
     char* end = nullptr;
@@ -22,16 +25,47 @@ double number(const std::string& option, const std::string& value, double lo, do
     return v;
 }
 
+long long frame_number(const std::string& option, const std::string& value) {
+    return static_cast<long long>(number(option, value, double(k_min_frame), double(k_max_frame), true));
+}
+
+// "A-B" or "A-B:STEP", A and B possibly negative ("-10--2").
+std::vector<long long> parse_range(const std::string& v) {
+    const std::string usage = "--frames expects A-B or A-B:STEP (e.g. 1-250 or 1-250:10), not '" + v + "'";
+    size_t dash = v.find('-', v.empty() || v[0] != '-' ? 0 : 1);
+    if (dash == std::string::npos || dash == 0) throw UsageError(usage);
+    size_t colon = v.find(':', dash);
+    std::string a = v.substr(0, dash), b = v.substr(dash + 1, colon == std::string::npos ? colon : colon - dash - 1);
+    long long first = frame_number("--frames", a), last = frame_number("--frames", b), step = 1;
+    if (colon != std::string::npos)
+        step = static_cast<long long>(number("--frames step", v.substr(colon + 1), 1, double(k_max_frame), true));
+    if (last < first) throw UsageError("--frames " + v + ": the last frame comes before the first");
+    std::vector<long long> frames;
+    for (long long f = first; f <= last; f += step) frames.push_back(f);
+    return frames;
+}
+
+bool has_frame_pattern(const std::string& pattern) {
+    return pattern.find("{frame}") != std::string::npos || pattern.find('#') != std::string::npos;
+}
+
 }  // namespace
 
 bool parse_animation_option(const std::vector<std::string>& args, size_t& i, RenderCommand& cmd) {
     const std::string& a = args[i];
-    if (a != "--frame" && a != "--fps" && a != "--animation") return false;
+    if (a == "--animated-seed") {
+        cmd.animated_seed = true;
+        return true;
+    }
+    if (a != "--frame" && a != "--frames" && a != "--fps" && a != "--animation") return false;
     if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
     const std::string& v = args[++i];
-    if (a == "--frame") {
-        // Blender's frames are integers; its frame range is -1048574 .. 1048574.
-        cmd.frames = {number(a, v, -1048574, 1048574, true)};
+    if (a == "--frame" || a == "--frames") {
+        if (cmd.frames_given && cmd.frames_flag != a)
+            throw UsageError("--frame and --frames exclude each other");
+        cmd.frames = a == "--frame" ? std::vector<long long>{frame_number(a, v)} : parse_range(v);
+        cmd.frames_given = true;
+        cmd.frames_flag = a;
     } else if (a == "--fps") {
         cmd.fps = number(a, v, 0.001, 1e6, false);
         cmd.fps_given = true;
@@ -43,10 +77,57 @@ bool parse_animation_option(const std::vector<std::string>& args, size_t& i, Ren
 }
 
 void check_animation_options(const RenderCommand& cmd) {
-    if (cmd.frames.empty() && (cmd.fps_given || !cmd.animation.empty()))
-        throw UsageError(std::string(cmd.fps_given ? "--fps" : "--animation") + " needs --frame");
+    if (cmd.frames.empty() && (cmd.fps_given || !cmd.animation.empty() || cmd.animated_seed))
+        throw UsageError(std::string(cmd.fps_given              ? "--fps"
+                                     : !cmd.animation.empty() ? "--animation"
+                                                              : "--animated-seed") +
+                         " needs --frame or --frames");
+    if (cmd.frames.size() > 1) {
+        for (const std::string& o : cmd.outputs)
+            if (!has_frame_pattern(o))
+                throw UsageError("several frames need an output pattern with {frame} or #### (e.g. -o out/frame_####.exr), "
+                                 "not '" + o + "'");
+        if (!cmd.stats_json.empty() && !has_frame_pattern(cmd.stats_json))
+            throw UsageError("several frames need a --stats-json pattern with {frame} or ####, not '" + cmd.stats_json +
+                             "'");
+    }
 }
 
-double frame_time(const RenderCommand& cmd, double frame) { return frame / cmd.fps; }
+double frame_time(const RenderCommand& cmd, long long frame) { return double(frame) / cmd.fps; }
+
+std::string with_frame(const std::string& pattern, long long frame) {
+    std::string out;
+    for (size_t i = 0; i < pattern.size();) {
+        if (pattern.compare(i, 7, "{frame}") == 0) {
+            out += std::to_string(frame);
+            i += 7;
+        } else if (pattern[i] == '#') {
+            size_t run = pattern.find_first_not_of('#', i);
+            if (run == std::string::npos) run = pattern.size();
+            char digits[64];
+            std::snprintf(digits, sizeof(digits), "%0*lld", int(std::min<size_t>(run - i, 20)), frame);
+            out += digits;
+            i = run;
+        } else {
+            out += pattern[i++];
+        }
+    }
+    return out;
+}
+
+RenderCommand command_for_frame(const RenderCommand& cmd, long long frame) {
+    RenderCommand f = cmd;
+    for (std::string& o : f.outputs) o = with_frame(o, frame);
+    if (!f.stats_json.empty()) f.stats_json = with_frame(f.stats_json, frame);
+    return f;
+}
+
+uint64_t animated_seed(uint64_t seed, long long frame) {
+    // SplitMix64's finaliser over the seed and the frame: nearby frames get unrelated seeds.
+    uint64_t z = seed ^ (static_cast<uint64_t>(frame) * 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return (z ^ (z >> 31)) & 0x7FFFFFFFFFFFFFFFull;
+}
 
 }  // namespace veach::cli

@@ -48,8 +48,11 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --variant NAME          KHR_materials_variants: render with this variant's materials
   --frame N               render the scene at frame N: glTF time N / fps, every animation,
                           skin and morph target evaluated (default: the file's static pose)
-  --fps F                 frames per second for --frame (default 24, Blender's)
-  --animation NAME|INDEX|all  the animation played at --frame (default all: every one at once)
+  --frames A-B[:STEP]     render frames A to B (every STEP-th) from one load of the scene; the
+                          outputs need {frame} or #### (zero-padded: out/f_####.exr)
+  --fps F                 frames per second for --frame and --frames (default 24, Blender's)
+  --animation NAME|INDEX|all  the animation played (default all: every one at once)
+  --animated-seed         mix the frame into --seed, so frames do not share one noise pattern
   --allow-external-files  let URIs point outside the glTF's folder
   --env FILE              environment map: equirectangular (lat-long) HDR/EXR, Blender's mapping
   --env-color R,G,B       a uniform environment of this linear radiance instead
@@ -243,7 +246,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
         };
         constexpr long long int_max = std::numeric_limits<int>::max();
         if (parse_farm_render_option(args, i, cmd)) continue;  // --samples, --pixelbounds
-        if (parse_animation_option(args, i, cmd)) continue;    // --frame, --fps, --animation
+        if (parse_animation_option(args, i, cmd)) continue;    // --frame(s), --fps, --animation
         if (a == "-o" || a == "--output")
             cmd.outputs.push_back(value());
         else if (a == "--width")
@@ -372,12 +375,12 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
     if (!env_color.empty())
         scene_opt(string_option("env_color", env_color), "--env-color expects R,G,B (e.g. 0.8,0.9,1)");
     if (cmd.outputs.empty()) throw UsageError("no output given (-o FILE)");
+    check_animation_options(cmd);  // several frames need {frame} patterns: before {stem}'s check
     for (const std::string& o : cmd.outputs)
         if (cmd.inputs.size() > 1 && o.find("{stem}") == std::string::npos)
             throw UsageError("several inputs need an output pattern with {stem}, e.g. -o out/{stem}.exr");
     render_opt(string_option("integrator", integrator), "unknown integrator '" + integrator + "'");
     check_farm_render_options(cmd);
-    check_animation_options(cmd);
     return cmd;
 }
 

@@ -37,10 +37,13 @@ struct RenderCommand {
     bool resume = false;             // --resume: continue from the checkpoint when there is one
     // Animation (animation_options.h): the frames to render (empty: the file's static pose),
     // frames per second (time = frame / fps) and the animation played ("" = all).
-    std::vector<double> frames;
+    std::vector<long long> frames;
+    bool frames_given = false;
+    std::string frames_flag;  // --frame or --frames
     double fps = 24;
     bool fps_given = false;
     std::string animation;
+    bool animated_seed = false;  // --animated-seed: the seed mixed with each frame
 };
 
 // String queries through the C API's caller-buffer convention ("" when the query fails).

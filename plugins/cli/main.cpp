@@ -312,58 +312,15 @@ bool output_complete(VeachDevice device, VeachRender options, const std::string&
            value("veach:pixelbounds") == render_string(options, "pixelbounds");
 }
 
-// `index` of `count` inputs (counted from 1), for the batch's progress lines.
-int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachRender options,
-               size_t index, size_t count) {
+// Renders one frame of a loaded scene (or the still: no frame) to its outputs. `t` brings the
+// load's time (the first frame's), t0 when this frame's work began; `label` prefixes progress lines.
+int render_frame(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachScene scene, Timings t,
+                 std::chrono::steady_clock::time_point t0, const long long* frame, const std::string& label) {
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a, clock::time_point b) {
         return std::chrono::duration<double>(b - a).count();
     };
-    Timings t;
-    if (cmd.skip_existing) {
-        bool all = true;
-        for (const std::string& pattern : cmd.outputs)
-            all = all && output_complete(device, options, output_path_for(pattern, input));
-        if (all) {
-            if (!cmd.quiet) std::fprintf(stderr, "veach: %s: skipped, its outputs are complete\n", input.c_str());
-            return k_ok;
-        }
-    }
-    auto t0 = clock::now();
-    SceneRef scene{veachNewScene(device)};
-    if (!scene.h) {
-        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
-        return k_failure;
-    }
-    for (const ApiOption& o : cmd.scene_options) {
-        if (apply_scene_option(scene.h, o) != VEACH_ERROR_NONE) {
-            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
-            return k_bad_input;
-        }
-    }
-    // The frame's time and the animation played: the import evaluates them (and refuses an
-    // animation the file lacks, listing its animations, before anything is rendered).
-    if (!cmd.frames.empty()) {
-        bool ok = veachSetSceneFloat(scene.h, "time", frame_time(cmd, cmd.frames.front())) == VEACH_ERROR_NONE &&
-                  (cmd.animation.empty() || veachSetSceneString(scene.h, "animation", cmd.animation.c_str()) ==
-                                                VEACH_ERROR_NONE);
-        if (!ok) {
-            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
-            return k_bad_input;
-        }
-    }
-    // Import, environment, then the library's repairs (a white world for an unlit scene, a far-off
-    // scene moved to the origin), as for every host.
-    if (VeachError e = veachLoadSceneFile(scene.h, input.c_str()); e != VEACH_ERROR_NONE) {
-        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
-        return e == VEACH_ERROR_BAD_INPUT || e == VEACH_ERROR_INVALID_ARGUMENT ? k_bad_input : k_failure;
-    }
-    for (const std::string& w : split_lines(scene_string(scene.h, "warnings")))
-        std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
-    auto t1 = clock::now();
-    t.load = seconds(t0, t1);
-
-    RenderRef render{veachNewRender(scene.h)};
+    RenderRef render{veachNewRender(scene)};
     if (!render.h) {
         std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
         return k_failure;
@@ -374,6 +331,10 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
             return k_bad_input;
         }
     }
+    if (frame && cmd.animated_seed) {
+        const long long seed = render_int(render.h, "seed");
+        veachSetInt(render.h, "seed", static_cast<long long>(animated_seed(static_cast<uint64_t>(seed), *frame)));
+    }
     const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
     const std::string checkpoint = checkpoint_path_for(cmd, input);
     if (checkpointing) {
@@ -381,8 +342,6 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
         veachSetFloat(render.h, "checkpoint_interval", cmd.checkpoint_seconds);  // < 0: never written
         veachSetInt(render.h, "resume", cmd.resume ? 1 : 0);
     }
-    const std::string label =
-        count > 1 ? "[" + std::to_string(index) + "/" + std::to_string(count) + "] " + input + " " : std::string();
     ProgressPrinter progress(cmd.quiet, label);
     veachSetProgressFunction(render.h, on_progress, &progress);
     const long long spp_requested = render_int(render.h, "spp");
@@ -441,7 +400,7 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
                      static_cast<unsigned long long>(nonfinite));
     if (!cmd.stats_json.empty()) {
         try {
-            write_stats_json(output_path_for(cmd.stats_json, input), input, device, scene.h, render.h, t);
+            write_stats_json(output_path_for(cmd.stats_json, input), input, device, scene, render.h, t);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "veach: %s\n", e.what());
             return k_failure;
@@ -456,6 +415,94 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
         std::fprintf(stderr, "veach: %s -> %s (%lldx%lld, %lld spp, %.2fs)\n", input.c_str(), written.c_str(),
                      render_int(render.h, "result_width"), render_int(render.h, "result_height"), spp_done, t.total);
     return k_ok;
+}
+
+// `index` of `count` inputs (counted from 1), for the batch's progress lines.
+int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachRender options,
+               size_t index, size_t count) {
+    using clock = std::chrono::steady_clock;
+    auto seconds = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double>(b - a).count();
+    };
+    Timings t;
+    // Each frame has its own outputs (and checkpoint): --skip-existing leaves out the frames whose
+    // outputs are all complete, and loads nothing when no frame is left.
+    auto complete = [&](const RenderCommand& c) {
+        bool all = true;
+        for (const std::string& pattern : c.outputs)
+            all = all && output_complete(device, options, output_path_for(pattern, input));
+        return all;
+    };
+    std::vector<long long> frames;
+    for (long long f : cmd.frames) {
+        if (cmd.skip_existing && complete(command_for_frame(cmd, f))) {
+            if (!cmd.quiet)
+                std::fprintf(stderr, "veach: %s: frame %lld skipped, its outputs are complete\n", input.c_str(), f);
+            continue;
+        }
+        frames.push_back(f);
+    }
+    const bool animated = !cmd.frames.empty();
+    if (animated ? frames.empty() : cmd.skip_existing && complete(cmd)) {
+        if (!cmd.quiet && !animated)
+            std::fprintf(stderr, "veach: %s: skipped, its outputs are complete\n", input.c_str());
+        return k_ok;
+    }
+    auto t0 = clock::now();
+    SceneRef scene{veachNewScene(device)};
+    if (!scene.h) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return k_failure;
+    }
+    for (const ApiOption& o : cmd.scene_options) {
+        if (apply_scene_option(scene.h, o) != VEACH_ERROR_NONE) {
+            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
+            return k_bad_input;
+        }
+    }
+    // The first frame's time and the animation played: the import evaluates them (and refuses an
+    // animation the file lacks, listing its animations, before anything is rendered).
+    if (animated) {
+        bool ok = veachSetSceneFloat(scene.h, "time", frame_time(cmd, frames.front())) == VEACH_ERROR_NONE &&
+                  (cmd.animation.empty() || veachSetSceneString(scene.h, "animation", cmd.animation.c_str()) ==
+                                                VEACH_ERROR_NONE);
+        if (!ok) {
+            std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
+            return k_bad_input;
+        }
+    }
+    // Import, environment, then the library's repairs (a white world for an unlit scene, a far-off
+    // scene moved to the origin), as for every host.
+    if (VeachError e = veachLoadSceneFile(scene.h, input.c_str()); e != VEACH_ERROR_NONE) {
+        std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        return e == VEACH_ERROR_BAD_INPUT || e == VEACH_ERROR_INVALID_ARGUMENT ? k_bad_input : k_failure;
+    }
+    for (const std::string& w : split_lines(scene_string(scene.h, "warnings")))
+        std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
+    t.load = seconds(t0, clock::now());
+    const std::string label =
+        count > 1 ? "[" + std::to_string(index) + "/" + std::to_string(count) + "] " + input + " " : std::string();
+    if (!animated) return render_frame(device, cmd, input, scene.h, t, t0, nullptr, label);
+    // A sequence from this one load: each later frame poses the loaded scene again (the file is
+    // not read again; each frame's render builds its BVH and light tables from the posed scene).
+    int worst = k_ok;
+    for (size_t k = 0; k < frames.size(); ++k) {
+        if (k > 0) {
+            t0 = clock::now();
+            t.load = 0;
+            if (veachSetSceneFloat(scene.h, "time", frame_time(cmd, frames[k])) != VEACH_ERROR_NONE) {
+                std::fprintf(stderr, "veach: %s: frame %lld: %s\n", input.c_str(), frames[k], veachGetLastError());
+                return k_failure;
+            }
+        }
+        const std::string frame_label =
+            frames.size() > 1 ? label + "frame " + std::to_string(frames[k]) + " " : label;
+        int rc = render_frame(device, command_for_frame(cmd, frames[k]), input, scene.h, t, t0, &frames[k],
+                              frame_label);
+        if (rc == k_interrupted || g_cancel.load()) return k_interrupted;
+        worst = std::max(worst, rc);
+    }
+    return worst;
 }
 
 // A render of an empty scene carrying the command's render options: what the outputs should be

@@ -44,7 +44,8 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     VeachDeviceImpl* m_device = nullptr;  // retained
 
     // Before the load: options, guarded by m_mutex. The load happens once; from then on
-    // everything below is immutable and renders share it read-only without locking.
+    // everything below is immutable and renders share it read-only without locking, except for
+    // a re-pose at another time (m_renders_running).
     std::mutex m_mutex;
     std::atomic<bool> m_loaded{false};
     veach::ImportOptions m_import;
@@ -52,6 +53,12 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     std::string m_env_color;  // the env_color option as given ("R,G,B"), for reading back
     std::string m_source;     // the file loaded, "" for a scene from memory
     double m_time = 0;        // seconds, the scene's animation evaluated there (m_import.animate)
+    // After the load, a scene imported with a time may be posed again at another (the scene
+    // option "time"): never while a render of it runs. Renders count themselves here, under
+    // m_mutex, which the re-pose holds throughout.
+    int m_renders_running = 0;
+    uint64_t m_file_hash = 0;     // the import's content hash, for m_content_hash after a re-pose
+    uint64_t m_env_map_hash = 0;  // the environment map's content, hashed once at the load
     // Identifies the scene's content and every scene option for checkpoints: a checkpoint of
     // another file, variant or environment is refused.
     uint64_t m_content_hash = 0;

@@ -103,6 +103,10 @@ VeachError VeachRenderImpl::run() {
         m_failure = outcome;
         m_failure_message = message;
     }
+    {
+        std::lock_guard<std::mutex> lock(m_scene->m_mutex);
+        --m_scene->m_renders_running;  // claim() counted this render
+    }
     if (status == VEACH_STATUS_FAILED)
         m_scene->m_device->report(outcome, message);
     else if (status == VEACH_STATUS_CANCELLED)
@@ -612,6 +616,14 @@ void claim(VeachRender render, const char* function) {
             throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": a render is already running"};
     } while (!render->m_status.compare_exchange_weak(expected, VEACH_STATUS_RUNNING));
     render->m_cancel = false;
+    std::lock_guard<std::mutex> lock(render->m_scene->m_mutex);  // waits for a re-pose to finish
+    ++render->m_scene->m_renders_running;
+}
+
+// The render claimed by claim() is over (or never started): its scene may be posed again.
+void release_scene(VeachRender render) {
+    std::lock_guard<std::mutex> lock(render->m_scene->m_mutex);
+    --render->m_scene->m_renders_running;
 }
 
 }  // namespace
@@ -633,6 +645,7 @@ VEACH_API VeachError veachRenderAsync(VeachRender render) {
             if (render->m_worker.joinable()) render->m_worker.join();  // the previous render, finished
             render->m_worker = std::thread([render] { render->run(); });
         } catch (...) {
+            release_scene(render);
             render->m_status = VEACH_STATUS_FAILED;
             throw;
         }

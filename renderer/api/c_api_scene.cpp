@@ -92,7 +92,15 @@ const char* default_material_name(veach::DefaultMaterial m) {
 
 // Every scene option, and the environment map's content (never its path), for the identity of
 // checkpoints and part files (core/content_hash.h).
-uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash) {
+uint64_t environment_map_hash(const VeachSceneImpl& s) {
+    const veach::EnvironmentOptions& env = s.m_environment;
+    uint64_t map = veach::k_fnv_offset;
+    if (!env.map_path.empty() && !veach::hash_file_content(env.map_path, &map))
+        throw ApiError{VEACH_ERROR_BAD_INPUT, env.map_path + ": cannot read the environment map"};
+    return map;
+}
+
+uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash, uint64_t map) {
     const veach::EnvironmentOptions& env = s.m_environment;
     veach::HashKey key("veach-scene-v2");
     key.field("content", content_hash)
@@ -109,9 +117,6 @@ uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash) {
         .field("env_rotate", env.rotate_degrees);
     // Only a posed scene names its time: an unanimated one keeps the identity it always had.
     if (s.m_import.animate) key.field("time", s.m_time).field("animation", s.m_import.animation);
-    uint64_t map = veach::k_fnv_offset;
-    if (!env.map_path.empty() && !veach::hash_file_content(env.map_path, &map))
-        throw ApiError{VEACH_ERROR_BAD_INPUT, env.map_path + ": cannot read the environment map"};
     key.field("env_map_content", map);
     return key.value();
 }
@@ -129,7 +134,9 @@ void finish_load(VeachSceneImpl* s, veach::Scene&& scene, uint64_t content_hash)
     veach::light_unlit_scene(scene);
     veach::rebase_scene(scene);
     s->m_scene = std::move(scene);
-    s->m_content_hash = scene_options_hash(*s, content_hash);
+    s->m_file_hash = content_hash;
+    s->m_env_map_hash = environment_map_hash(*s);
+    s->m_content_hash = scene_options_hash(*s, content_hash, s->m_env_map_hash);
     s->m_loaded = true;
 }
 
@@ -255,6 +262,28 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
         std::string n = name;
         if (!std::isfinite(value)) throw invalid("scene option '" + n + "' must be finite");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
+        if (n == "time" && scene->m_loaded) {
+            // A sequence: the loaded scene posed at another time, its file never read again.
+            if (std::abs(value) > 1e9) throw invalid("scene option 'time' must be in [-1e9, 1e9] seconds");
+            if (!scene->m_import.animate)
+                throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                               "veachSetSceneFloat: the scene was loaded without a time; set 'time' before the load "
+                               "to pose it at other times"};
+            if (scene->m_renders_running > 0)
+                throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                               "veachSetSceneFloat: a render of this scene is running; set 'time' once it is done"};
+            const double before = scene->m_time;
+            scene->m_time = value;
+            try {
+                veach::pose_scene(scene->m_scene, value);
+                veach::rebase_scene(scene->m_scene);
+                scene->m_content_hash = scene_options_hash(*scene, scene->m_file_hash, scene->m_env_map_hash);
+            } catch (...) {
+                scene->m_time = before;
+                throw;
+            }
+            return VEACH_ERROR_NONE;
+        }
         check_not_loaded(scene, "veachSetSceneFloat");
         if (n == "env_strength") {
             if (value < 0 || value > 1e30) throw invalid("scene option 'env_strength' must be in [0, 1e30]");

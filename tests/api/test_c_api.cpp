@@ -841,3 +841,59 @@ TEST_F(CApi, OutputsCheckedWithoutRendering) {
     veachReleaseScene(scene);
     std::filesystem::remove_all(dir);
 }
+
+// An orthographic camera over [-1, 1]^2 and an emissive quad (radiance 1) on its left half that
+// slides out of view by -1 in x between t = 0 and 1: the image mean is 0.5 at t = 0, 0.25 at 0.5.
+std::string slide_gltf() {
+    std::ifstream in(std::string(VEACH_TEST_DATA_DIR) + "/gltf/slide.gltf");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST_F(CApi, SceneTimeAfterTheLoadPosesItAgainWithoutReadingTheFile) {
+    const std::string text = slide_gltf();
+    ASSERT_FALSE(text.empty());
+    const std::string path = ::testing::TempDir() + "/veach_capi_slide.gltf";
+    std::ofstream(path) << text;
+    VeachScene s = veachNewScene(m_device);
+    double t = 0;
+    ASSERT_EQ(veachGetSceneFloat(s, "time", &t), VEACH_ERROR_NONE);
+    EXPECT_TRUE(std::isnan(t));  // unset: the static pose
+    ASSERT_EQ(veachSetSceneFloat(s, "time", 0.0), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachLoadSceneFile(s, path.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    std::remove(path.c_str());  // whatever comes next cannot read the file
+    auto render_mean = [&](int spp) {
+        VeachRender r = veachNewRender(s);
+        veachSetInt(r, "width", 16);
+        veachSetInt(r, "height", 16);
+        veachSetInt(r, "spp", spp);
+        veachSetString(r, "integrator", "pt");
+        EXPECT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+        double mean = mean_rgb(combined(r));
+        veachReleaseRender(r);
+        return mean;
+    };
+    EXPECT_NEAR(render_mean(2), 0.5, 1e-6);
+    ASSERT_EQ(veachSetSceneFloat(s, "time", 0.5), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_NEAR(render_mean(2), 0.25, 1e-6);
+    ASSERT_EQ(veachGetSceneFloat(s, "time", &t), VEACH_ERROR_NONE);
+    EXPECT_EQ(t, 0.5);
+
+    // Never while a render of the scene runs.
+    VeachRender busy = veachNewRender(s);
+    veachSetInt(busy, "width", 64);
+    veachSetInt(busy, "height", 64);
+    veachSetInt(busy, "spp", 1 << 20);
+    ASSERT_EQ(veachRenderAsync(busy), VEACH_ERROR_NONE);
+    EXPECT_REFUSED(veachSetSceneFloat(s, "time", 1.0), VEACH_ERROR_INVALID_OPERATION, "running");
+    veachCancelRender(busy);
+    veachWaitRender(busy, -1);
+    EXPECT_EQ(veachSetSceneFloat(s, "time", 1.0), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_NEAR(render_mean(2), 0.0, 1e-6);
+    veachReleaseRender(busy);
+    veachReleaseScene(s);
+
+    // A scene loaded without a time has nothing to pose.
+    VeachScene still = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    EXPECT_REFUSED(veachSetSceneFloat(still, "time", 1.0), VEACH_ERROR_INVALID_OPERATION, "without a time");
+    veachReleaseScene(still);
+}

@@ -42,7 +42,7 @@ def check(condition, message):
     return condition
 
 
-def write_scene(path):
+def write_scene(path, extra_extension=None):
     floats = lambda values: struct.pack("<%df" % len(values), *values)
     positions = floats([-1, -1, -1, 0, -1, -1, 0, 1, -1, -1, 1, -1])
     indices = struct.pack("<6H", 0, 1, 2, 0, 2, 3) + b"\0\0"
@@ -82,6 +82,8 @@ def write_scene(path):
         "bufferViews": views,
         "accessors": accessors,
     }
+    if extra_extension:
+        doc["extensionsUsed"] = [extra_extension]
     with open(path, "w") as f:
         json.dump(doc, f)
 

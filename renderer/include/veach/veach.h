@@ -133,13 +133,16 @@ VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* dat
                                              const char* base_dir);
 /* The same in steps, for options that shape the scene (since 0.2): an empty scene, its options, then one
  * load. Options (an unknown name, a wrong type or a bad value is VEACH_ERROR_INVALID_ARGUMENT; any
- * option after the load is VEACH_ERROR_INVALID_OPERATION):
+ * option after the load but time is VEACH_ERROR_INVALID_OPERATION):
  *   int:    scene_index (glTF scene, -1 = the file's default), allow_external_files (0 or 1: URIs
  *           may point outside the file's folder)
  *   float:  env_strength (>= 0, default 1), env_rotate (degrees about +Y, as a Mapping node's Z
  *           rotation in Blender's world shader), time (seconds, since 0.4: the scene's animations,
  *           skins and morph targets evaluated at that time; unset, reading NaN, the file's nodes
- *           are placed as they stand and skins and morph targets are not applied)
+ *           are placed as they stand and skins and morph targets are not applied; set again after
+ *           the load of a scene loaded with a time, it poses that scene at the new time without
+ *           reading the file again: a sequence; VEACH_ERROR_INVALID_OPERATION while a render of the
+ *           scene runs, or for a scene loaded without a time)
  *   string: variant (KHR_materials_variants; an unknown name fails the load, listing the file's),
  *           spot_falloff ("auto", "blender", "gltf"), default_material ("auto", "blender", "gltf":
  *           what a primitive without a material is; auto: Cycles' default surface, Lambertian 0.8,
