@@ -16,7 +16,8 @@ constexpr std::string_view k_supported[] = {
     "KHR_materials_unlit",        "KHR_materials_variants",
     "KHR_materials_volume",       "KHR_mesh_quantization",
     "KHR_texture_basisu",  // its fallback `source` renders; a BasisU-only texture is refused
-    "KHR_texture_transform",      "EXT_meshopt_compression",
+    "KHR_texture_transform",      "EXT_mesh_gpu_instancing",
+    "EXT_meshopt_compression",
     "EXT_texture_webp",           "VEACH_lights_blender",
 };
 

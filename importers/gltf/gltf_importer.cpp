@@ -30,6 +30,7 @@
 #include "importers/gltf/gltf_draco.h"
 #include "importers/gltf/gltf_extensions.h"
 #include "importers/gltf/gltf_image_use.h"
+#include "importers/gltf/gltf_instancing.h"
 #include "importers/gltf/gltf_json_chunk.h"
 #include "importers/gltf/gltf_materials.h"
 #include "importers/gltf/gltf_meshopt.h"
@@ -654,7 +655,7 @@ void GltfImporter::visit(int node_index, const Transform& parent, int depth, int
     int placement = -1;
     if (m_options.animate) {
         placement = static_cast<int>(m_scene.animation.placements.size());
-        m_scene.animation.placements.push_back(NodePlacement{node_index, parent_placement, {}, -1, -1});
+        m_scene.animation.placements.push_back(NodePlacement{node_index, parent_placement, {}, -1, -1, {}});
     }
     if (node.mesh != -1) place_mesh(node_index, world, placement);
     if (node.camera != -1) {
@@ -711,10 +712,16 @@ void GltfImporter::place_mesh(int node_index, const Transform& world, int placem
     int mesh_index = m_model.nodes[node_index].mesh;
     if (mesh_index < 0 || static_cast<size_t>(mesh_index) >= m_model.meshes.size())
         throw GltfError(node_label(node_index) + ": mesh " + std::to_string(mesh_index) + " does not exist");
+    std::optional<std::vector<Transform>> instances =
+        gltf::read_gpu_instances(m_model, node_index, node_label(node_index), *m_context);
     if (placement >= 0 && deforms(node_index)) {
         // A deforming mesh gets its own Scene::Mesh per node: the weights and the skin are the
         // node's. The rest shape is placed by the node, as without animation.
         const tinygltf::Node& node = m_model.nodes[node_index];
+        if (instances)
+            m_context->warn(node_label(node_index) +
+                            " deforms (skin or morph targets) and carries EXT_mesh_gpu_instancing: its mesh is "
+                            "placed once, by the node");
         if (node.skin >= 0 && static_cast<size_t>(node.skin) >= m_model.skins.size())
             throw GltfError(node_label(node_index) + ": skin " + std::to_string(node.skin) + " does not exist");
         const auto& primitives = m_model.meshes[mesh_index].primitives;
@@ -759,11 +766,33 @@ void GltfImporter::place_mesh(int node_index, const Transform& world, int placem
     if (m_model.nodes[node_index].skin >= 0 && placement < 0)
         m_context->warn("skins are not supported; skinned meshes are placed by their node, in bind pose");
     if (++m_mesh_uses[mesh_index] > 1 && !entries->empty()) m_scene.features.instancing = true;
-    for (uint32_t entry : *entries) {
-        if (placement >= 0)
-            m_scene.animation.placements[size_t(placement)].instances.push_back(
-                static_cast<uint32_t>(m_scene.instances.size()));
-        m_scene.instances.push_back(Instance{entry, world});
+    if (!instances) {
+        for (uint32_t entry : *entries) {
+            if (placement >= 0)
+                m_scene.animation.placements[size_t(placement)].instances.push_back(
+                    static_cast<uint32_t>(m_scene.instances.size()));
+            m_scene.instances.push_back(Instance{entry, world});
+        }
+        return;
+    }
+    // EXT_mesh_gpu_instancing: every instance of every primitive is a Scene instance of the one
+    // mesh entry (the accel builds the mesh once and references it from each), placed by the
+    // node's world transform times the instance's own.
+    if (instances->size() > 1 && !entries->empty()) m_scene.features.instancing = true;
+    m_context->charge(instances->size() * entries->size() * sizeof(Instance), node_label(node_index) + " instances");
+    for (const Transform& local : *instances) {
+        const Transform placed = world * local;
+        if (!all_finite(placed))
+            throw GltfError(node_label(node_index) + ": an EXT_mesh_gpu_instancing instance has a non-finite transform");
+        for (uint32_t entry : *entries) {
+            if (placement >= 0) {
+                NodePlacement& pl = m_scene.animation.placements[size_t(placement)];
+                pl.instances.push_back(static_cast<uint32_t>(m_scene.instances.size()));
+                pl.instance_offsets.resize(pl.instances.size());  // identity for any placed before
+                pl.instance_offsets.back() = local;
+            }
+            m_scene.instances.push_back(Instance{entry, placed});
+        }
     }
 }
 

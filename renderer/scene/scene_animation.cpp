@@ -231,7 +231,9 @@ void pose_scene(Scene& scene, double seconds) {
     for (size_t p = 0; p < a.placements.size(); ++p) {
         const NodePlacement& pl = a.placements[p];
         world[p] = pl.parent >= 0 ? world[size_t(pl.parent)] * local[size_t(pl.node)] : local[size_t(pl.node)];
-        for (uint32_t inst : pl.instances) scene.instances[inst].object_to_world = world[p];
+        for (size_t k = 0; k < pl.instances.size(); ++k)
+            scene.instances[pl.instances[k]].object_to_world =
+                pl.instance_offsets.empty() ? world[p] : world[p] * pl.instance_offsets[k];
         if (pl.camera >= 0) scene.cameras[size_t(pl.camera)].camera_to_world = world[p];
     }
     scene.lights.clear();

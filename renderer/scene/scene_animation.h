@@ -106,6 +106,9 @@ struct NodePlacement {
     std::vector<uint32_t> instances;  // rigid Scene::instances placed by this node
     int camera = -1;                  // Scene::cameras
     int light = -1;                   // SceneAnimation::lights
+    // EXT_mesh_gpu_instancing: per entry of `instances`, the instance's transform in the node's
+    // space (placed at world x offset); empty when the node places its mesh once.
+    std::vector<Transform> instance_offsets;
 };
 
 struct SceneAnimation {
