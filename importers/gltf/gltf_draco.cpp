@@ -2,6 +2,7 @@
 
 #include "importers/gltf/gltf_json_chunk.h"
 
+#include <algorithm>
 #include <climits>
 #include <cstring>
 #include <map>
@@ -10,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include <draco/compression/decode.h>
+#include <draco/compression/mesh/mesh_edgebreaker_decoder.h>
+#include <draco/compression/mesh/mesh_sequential_decoder.h>
 #include <draco/core/decoder_buffer.h>
 #include <draco/mesh/mesh.h>
 #include <tiny_gltf.h>
@@ -109,6 +112,78 @@ std::string draco_type_name(draco::DataType type) {
     }
 }
 
+// Bytes that decoding an attribute of `components` values of `type` a point costs at its peak:
+// the final values, the portable (quantized or integer) copy Draco decodes them from, and the
+// prediction scheme's corrections, each 32 bits a component.
+uint64_t decoded_bytes_per_point(int components, draco::DataType type) {
+    return uint64_t(components) * (uint64_t(std::max<int64_t>(draco::DataTypeLength(type), 1)) + 8);
+}
+
+// Draco decodes every attribute of a stream, those the extension does not name included, and
+// sizes them from the stream alone: a small stream can declare millions of points with a
+// 127-component attribute. This decoder stops between the attribute descriptions and their
+// values, when the point count and every attribute's shape are known, and charges what the values
+// will take before any is allocated. The budget's error cannot be thrown through Draco's frames;
+// it is kept and rethrown once Draco has unwound.
+template <class MeshDecoderBase>
+class BudgetedDecoder : public MeshDecoderBase {
+public:
+    BudgetedDecoder(ImportContext& context, const std::map<std::string, uint32_t>& ids, const std::string& where)
+        : m_context(context), m_ids(ids), m_where(where) {}
+
+    std::optional<GltfError> refusal;           // set when the budget refused the values
+    std::unique_ptr<ScopedCharge> values_charge;  // what the decoded values hold until released
+
+protected:
+    bool DecodeAllAttributes() override {
+        const draco::PointCloud& cloud = *this->point_cloud();
+        uint64_t points = uint64_t(cloud.num_points()), bytes = 0;
+        std::string largest;
+        uint64_t largest_bytes = 0;
+        for (int32_t a = 0; a < cloud.num_attributes(); ++a) {
+            const draco::PointAttribute& att = *cloud.attribute(a);
+            uint64_t per_point = decoded_bytes_per_point(att.num_components(), att.data_type());
+            uint64_t att_bytes = per_point > UINT64_MAX / std::max<uint64_t>(points, 1) ? UINT64_MAX : per_point * points;
+            bytes = att_bytes > UINT64_MAX - bytes ? UINT64_MAX : bytes + att_bytes;
+            if (att_bytes >= largest_bytes) {
+                largest_bytes = att_bytes;
+                largest = attribute_name(att.unique_id()) + " (" + std::to_string(int(att.num_components())) +
+                          " components x " + std::to_string(points) + " points)";
+            }
+        }
+        try {
+            values_charge = std::make_unique<ScopedCharge>(m_context, bytes, m_where + " " + largest, Budget::Geometry);
+        } catch (const GltfError& e) {
+            refusal = e;
+            return false;
+        }
+        return MeshDecoderBase::DecodeAllAttributes();
+    }
+
+private:
+    std::string attribute_name(uint32_t id) const {
+        for (const auto& [name, mapped] : m_ids)
+            if (mapped == id) return "attribute " + name;
+        return "Draco attribute " + std::to_string(id) + " that no glTF attribute names";
+    }
+
+    ImportContext& m_context;
+    const std::map<std::string, uint32_t>& m_ids;
+    const std::string& m_where;
+};
+
+template <class MeshDecoderBase>
+draco::Status decode_budgeted(draco::DecoderBuffer& buffer, draco::Mesh& mesh, ImportContext& context,
+                              const std::map<std::string, uint32_t>& ids, const std::string& where,
+                              std::unique_ptr<ScopedCharge>& charge) {
+    BudgetedDecoder<MeshDecoderBase> decoder(context, ids, where);
+    draco::DecoderOptions options;
+    draco::Status status = decoder.Decode(options, &buffer, &mesh);
+    if (decoder.refusal) throw *decoder.refusal;
+    charge = std::move(decoder.values_charge);
+    return status;
+}
+
 }  // namespace
 
 std::optional<std::vector<uint8_t>> patch_draco_index_accessors(std::span<const uint8_t> file, bool binary,
@@ -153,6 +228,7 @@ std::optional<std::vector<uint8_t>> patch_draco_index_accessors(std::span<const 
 }
 
 struct DracoPrimitive::Impl {
+    std::unique_ptr<ScopedCharge> values_charge;  // released after the mesh (declared first)
     std::unique_ptr<draco::Mesh> mesh;
     std::map<std::string, uint32_t> ids;  // glTF attribute name -> Draco unique id
     std::string where;                    // "mesh 'a' primitive 0 KHR_draco_mesh_compression"
@@ -183,13 +259,27 @@ std::unique_ptr<DracoPrimitive> DracoPrimitive::decode(const tinygltf::Model& mo
 
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    draco::Decoder decoder;
-    draco::StatusOr<std::unique_ptr<draco::Mesh>> result = decoder.DecodeMeshFromBuffer(&buffer);
-    if (!result.ok())
+    // What draco::Decoder::DecodeMeshFromBuffer does, with the budgeted decoder in its place.
+    draco::DracoHeader header{};
+    draco::DecoderBuffer peek(buffer);
+    draco::Status status = draco::PointCloudDecoder::DecodeHeader(&peek, &header);
+    if (status.ok() && header.encoder_type != draco::TRIANGULAR_MESH)
+        status = draco::Status(draco::Status::DRACO_ERROR, "not a triangle mesh");
+    impl->mesh = std::make_unique<draco::Mesh>();
+    if (status.ok()) {
+        if (header.encoder_method == draco::MESH_EDGEBREAKER_ENCODING)
+            status = decode_budgeted<draco::MeshEdgebreakerDecoder>(buffer, *impl->mesh, context, impl->ids,
+                                                                    impl->where, impl->values_charge);
+        else if (header.encoder_method == draco::MESH_SEQUENTIAL_ENCODING)
+            status = decode_budgeted<draco::MeshSequentialDecoder>(buffer, *impl->mesh, context, impl->ids,
+                                                                   impl->where, impl->values_charge);
+        else
+            status = draco::Status(draco::Status::DRACO_ERROR,
+                                   "unknown encoder method " + std::to_string(int(header.encoder_method)));
+    }
+    if (!status.ok())
         throw GltfError(impl->where + ": cannot decode the Draco stream in bufferView " + std::to_string(view) + " (" +
-                        result.status().error_msg_string() + ")");
-    impl->mesh = std::move(result).value();
-    if (!impl->mesh) throw GltfError(impl->where + ": the Draco stream decoded to nothing");
+                        status.error_msg_string() + ")");
 
     size_t points = impl->mesh->num_points();
     for (const auto& [name, id] : impl->ids) {

@@ -10,9 +10,14 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/triangle_soup_mesh_builder.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <random>
 
 #include "../render/render_helpers.h"
@@ -477,6 +482,112 @@ TEST(GltfDracoErrors, PlainPrimitiveCannotUseADracoIndexAccessor) {
     b.doc["meshes"][0]["primitives"].push_back(plain);
     std::string m = expect_import_error(b);
     EXPECT_NE(m.find("no bufferView"), std::string::npos) << m;
+}
+
+// A grid of n x n points carrying, besides POSITION, a GENERIC attribute of `extra_components`
+// unsigned bytes a point that the glTF does not name (zeros, so the stream stays small however
+// many points it declares). Built as a draco::Mesh directly: the soup builder would hold every
+// corner's 127 values.
+struct GridStream {
+    std::vector<uint8_t> bytes;
+    int position_id = -1;
+    size_t points = 0;
+    int faces = 0;
+};
+
+GridStream grid_with_unnamed_attribute(int n, int extra_components) {
+    using draco::GeometryAttribute;
+    draco::Mesh mesh;
+    GridStream g;
+    g.points = size_t(n) * n;
+    mesh.set_num_points(uint32_t(g.points));
+    GeometryAttribute pos, extra;
+    pos.Init(GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
+    extra.Init(GeometryAttribute::GENERIC, nullptr, int8_t(extra_components), draco::DT_UINT8, false,
+               extra_components, 0);
+    int p = mesh.AddAttribute(pos, true, uint32_t(g.points));
+    mesh.AddAttribute(extra, true, uint32_t(g.points));  // values zero-filled
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            float xyz[3] = {float(x), float(y), 0};
+            mesh.attribute(p)->SetAttributeValue(draco::AttributeValueIndex(uint32_t(y * n + x)), xyz);
+        }
+    for (int y = 0; y + 1 < n; ++y)
+        for (int x = 0; x + 1 < n; ++x) {
+            auto v = [n](int i, int j) { return draco::PointIndex(uint32_t(j * n + i)); };
+            mesh.AddFace({v(x, y), v(x + 1, y), v(x + 1, y + 1)});
+            mesh.AddFace({v(x, y), v(x + 1, y + 1), v(x, y + 1)});
+        }
+    g.faces = int(mesh.num_faces());
+    g.position_id = int(mesh.attribute(p)->unique_id());
+    draco::Encoder encoder;
+    encoder.SetAttributeQuantization(GeometryAttribute::POSITION, 14);
+    draco::EncoderBuffer buffer;
+    draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+    EXPECT_TRUE(status.ok()) << status.error_msg_string();
+    g.bytes.assign(buffer.data(), buffer.data() + buffer.size());
+    return g;
+}
+
+GltfBuilder grid_scene(const GridStream& g) {
+    return draco_scene(g.bytes, {{"POSITION", k_float, "VEC3", false}}, {g.position_id}, g.points, g.faces, k_uint);
+}
+
+// An attribute the extension does not name is decoded by Draco all the same, so it is charged to
+// the import's budget like a named one: a small one is ignored and the mesh imports.
+TEST(GltfDraco, UnnamedAttributeIsIgnored) {
+    GridStream g = grid_with_unnamed_attribute(8, 127);
+    Scene scene = load(grid_scene(g));
+    ASSERT_EQ(scene.meshes.size(), size_t(1));
+    EXPECT_EQ(scene.meshes[0].positions.size(), g.points);
+    EXPECT_EQ(scene.meshes[0].indices.size(), size_t(3 * g.faces));
+}
+
+// A 0.2 MB stream declaring 102,400 points with an unnamed 127-component attribute: its values
+// (and the decoder's 32-bit working copies) would take about 120 MB. Imported by a child process
+// whose address space has 64 MiB to spare, the import must be refused by its budget, naming the
+// attribute, before Draco allocates the values (without the charge, the decode itself runs out).
+TEST(GltfDracoErrors, UnnamedAttributeIsChargedBeforeItIsDecoded) {
+    GridStream g = grid_with_unnamed_attribute(320, 127);
+    ASSERT_LT(g.bytes.size(), size_t(1) << 20);
+    TempDir dir;
+    fs::path file = dir.write("large_unnamed.gltf", grid_scene(g).gltf());
+
+    std::ifstream status("/proc/self/status");
+    uint64_t vm_kib = 0;
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("VmSize:", 0) == 0) vm_kib = std::stoull(line.substr(7));
+    ASSERT_GT(vm_kib, 0u);
+
+    int out[2];
+    ASSERT_EQ(pipe(out), 0);
+    pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        ::close(out[0]);
+        rlimit as{rlim_t(vm_kib * 1024 + (64ull << 20)), rlim_t(vm_kib * 1024 + (64ull << 20))};
+        setrlimit(RLIMIT_AS, &as);
+        std::string message = "imported";
+        try {
+            import_scene(file.string());
+        } catch (const std::exception& e) {
+            message = e.what();
+        }
+        ssize_t written = write(out[1], message.data(), message.size());
+        _exit(written == ssize_t(message.size()) ? 0 : 1);
+    }
+    ::close(out[1]);
+    std::string message;
+    char chunk[512];
+    for (ssize_t got; (got = read(out[0], chunk, sizeof chunk)) > 0;) message.append(chunk, size_t(got));
+    ::close(out[0]);
+    int wstatus = 0;
+    waitpid(child, &wstatus, 0);
+    ASSERT_TRUE(WIFEXITED(wstatus)) << "the importing child died, signal " << WTERMSIG(wstatus);
+    EXPECT_NE(message.find("Draco attribute"), std::string::npos) << message;
+    EXPECT_NE(message.find("Draco attribute 1 that no glTF attribute names"), std::string::npos) << message;
+    EXPECT_NE(message.find("127 components x 102400 points"), std::string::npos) << message;
+    EXPECT_NE(message.find("needs"), std::string::npos) << message;
 }
 
 }  // namespace
