@@ -3,7 +3,7 @@
 #   make test     set up, build and run the test suite
 #   make install PREFIX=/opt/veach  headers, libveach, CMake package, veach.pc, `veach`, the add-on
 #   make test-sanitize  the whole suite under ASan + UBSan (build-sanitize/, reduced sample counts)
-#   make fuzz FUZZ_SECONDS=N  libFuzzer on the importer (build-fuzz/, clang 14)
+#   make fuzz FUZZ_SECONDS=N  libFuzzer on the importer and on load + render (build-fuzz/, clang 14)
 #   make gallery  render examples/gallery and write its contact sheet, docs/gallery.png
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
@@ -47,17 +47,23 @@ test-sanitize: deps
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS)
 
-# libFuzzer on the importer for FUZZ_SECONDS; new inputs go to $(FUZZ_DIR)/corpus, findings to
-# $(FUZZ_DIR)/findings (turn each into a regression test in tests/robustness/data).
+# libFuzzer for FUZZ_SECONDS on each of FUZZ_TARGETS: importer (the glTF importer alone) and render
+# (load through the C API, then a few samples of pt, bdpt or lt); new inputs go to
+# $(FUZZ_DIR)/corpus-TARGET, findings to $(FUZZ_DIR)/findings-TARGET (turn each into a regression
+# test in tests/robustness/data). Both start from fuzz/corpus.
+FUZZ_TARGETS ?= importer render
 fuzz:
 	@bash scripts/install-deps.sh --fuzz
 	@cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 \
 	  -DCMAKE_CXX_COMPILER=clang++-14 -DVEACH_FUZZ=ON -DVEACH_BUILD_TESTS=OFF >/dev/null
-	@cmake --build $(FUZZ_DIR) -j $(JOBS) --target veach_fuzz_importer
-	@mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/findings
-	@ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1 $(FUZZ_DIR)/fuzz/veach_fuzz_importer \
-	  $(FUZZ_DIR)/corpus fuzz/corpus -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
-	  -max_len=65536 -artifact_prefix=$(FUZZ_DIR)/findings/ -print_final_stats=1
+	@cmake --build $(FUZZ_DIR) -j $(JOBS) $(foreach t,$(FUZZ_TARGETS),--target veach_fuzz_$(t))
+	@set -e; for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_DIR)/corpus-$$t $(FUZZ_DIR)/findings-$$t; \
+	  echo "== fuzz $$t for $(FUZZ_SECONDS) s"; \
+	  ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1 $(FUZZ_DIR)/fuzz/veach_fuzz_$$t \
+	    $(FUZZ_DIR)/corpus-$$t fuzz/corpus -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	    -max_len=65536 -artifact_prefix=$(FUZZ_DIR)/findings-$$t/ -print_final_stats=1; \
+	done
 
 # About ten minutes on two cores; GALLERY_SPP_SCALE=0.1 for a quick look (not for committing).
 GALLERY_SPP_SCALE ?= 1
