@@ -3,6 +3,7 @@
 #   make test     set up, build and run the test suite
 #   make install PREFIX=/opt/veach  headers, libveach, CMake package, veach.pc, `veach`, the add-on
 #   make test-sanitize  the whole suite under ASan + UBSan (build-sanitize/, reduced sample counts)
+#   make test-robustness  robustness tests + the attack suite's multi-GB originals (~3 GB disk)
 #   make fuzz FUZZ_SECONDS=N  libFuzzer on the importer and on load + render (build-fuzz/, clang 14)
 #   make gallery  render examples/gallery and write its contact sheet, docs/gallery.png
 BUILD_DIR ?= build
@@ -13,7 +14,7 @@ SANITIZE_DIR ?= build-sanitize
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build render test test-sanitize fuzz bench gallery install clean
+.PHONY: all deps configure build render test test-sanitize test-robustness fuzz bench gallery install clean
 
 all: build
 
@@ -46,6 +47,13 @@ test-sanitize: deps
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/robustness/lsan.supp:print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS)
+
+# The robustness tests plus the attack suite's multi-gigabyte originals (about 3 GB of disk in the
+# build folder, removed afterwards; a few minutes).
+test-robustness: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L robustness
+	@/usr/bin/python3 tests/robustness/check_attack_suite.py --generate --full-size --veach $(BUILD_DIR)/veach \
+	  --cases $(BUILD_DIR)/attack_cases_full; status=$$?; rm -rf $(BUILD_DIR)/attack_cases_full; exit $$status
 
 # libFuzzer for FUZZ_SECONDS on each of FUZZ_TARGETS: importer (the glTF importer alone) and render
 # (load through the C API, then a few samples of pt, bdpt or lt); new inputs go to

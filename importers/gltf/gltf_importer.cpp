@@ -176,6 +176,13 @@ bool read_bytes(const std::string& path, std::vector<unsigned char>& out, std::s
         error = "file too large";
         return false;
     }
+    // Reading it is the first allocation a file asks for: checked against what the process may
+    // still take, so a file larger than memory is refused before it is read, not by bad_alloc.
+    if (const uint64_t available = available_memory_bytes(); static_cast<uint64_t>(st.st_size) > available) {
+        error = "reading it needs " + std::to_string(uint64_t(st.st_size) >> 20) + " MiB, more than the " +
+                std::to_string(available >> 20) + " MiB of memory this process can take";
+        return false;
+    }
     out.resize(static_cast<size_t>(st.st_size));
     size_t done = 0;
     while (done < out.size()) {

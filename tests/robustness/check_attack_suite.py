@@ -6,7 +6,7 @@ hang, and peak memory under the case's limit (the address space is capped with R
 allocation a budget should have refused fails instead of succeeding; the peak resident size is
 reported per case).
 
-Usage: check_attack_suite.py --veach VEACH --cases DIR [--generate] [--only SUBSTRING] [--jobs N]
+Usage: check_attack_suite.py --veach VEACH --cases DIR [--generate [--full-size]] [--only SUBSTRING] [--jobs N]
 (--generate first writes the cases into DIR with make_attack_cases.py.)
 Exit 0 when every case keeps its contract, 1 otherwise.
 """
@@ -115,6 +115,7 @@ def main():
     ap.add_argument("--veach", required=True)
     ap.add_argument("--cases", required=True)
     ap.add_argument("--generate", action="store_true")
+    ap.add_argument("--full-size", action="store_true", help="with --generate: the multi-gigabyte originals too")
     # AddressSanitizer reserves terabytes of address space: its build runs the cases unlimited.
     ap.add_argument("--no-memory-limit", action="store_true")
     ap.add_argument("--only", default="")
@@ -123,7 +124,7 @@ def main():
     args = ap.parse_args()
     if args.generate:
         generator = os.path.join(os.path.dirname(os.path.abspath(__file__)), "make_attack_cases.py")
-        subprocess.run([sys.executable, generator, args.cases], check=True)
+        subprocess.run([sys.executable, generator, args.cases] + (["--full-size"] if args.full_size else []), check=True)
     with open(os.path.join(args.cases, "manifest.json")) as f:
         cases = [c for c in json.load(f) if args.only in c["name"]]
     if args.no_memory_limit:

@@ -11,7 +11,7 @@ the contract it must keep:
 Every case also runs under an address-space limit (`memory_mb`, default 2048): a budget must
 refuse before the allocation it covers, never after. Cases are named after what they check.
 
-Usage: make_attack_cases.py OUTDIR
+Usage: make_attack_cases.py OUTDIR [--full-size]  (--full-size adds the multi-gigabyte originals)
 """
 import base64
 import json
@@ -293,6 +293,17 @@ def memory_cases():
     big["buffers"][0]["byteLength"] = 42 + (72 << 20)
     case("data_uri_too_large_to_parse_is_refused_before_parsing", {"scene.gltf": big}, "refused",
          message="parsing this file needs", memory_mb=1024, limit_is_the_point=True)
+    # Ten million empty nodes (30 MB of JSON) would be ten million tinygltf objects, gigabytes;
+    # the outline counts them on the text and refuses before tinygltf parses.
+    nodes = triangle_gltf()
+    nodes["nodes"].append("NODES")
+    text = json.dumps(nodes).replace('"NODES"', ",".join(["{}"] * 10_000_000))
+    case("ten_million_empty_nodes_are_refused_before_parsing", {"scene.gltf": text}, "refused",
+         message="nodes", memory_mb=1024, limit_is_the_point=True)
+    # A 16384 x 16384 render: its film's sums need about 29 GB; estimated before rendering and
+    # refused with the sizes, not OOM-killed (the later --width wins over the suite's own).
+    case("film_larger_than_memory_is_refused_before_rendering", {"scene.gltf": triangle_gltf()}, "refused",
+         args=["--width", "16384", "--height", "16384"], message="memory available", limit_is_the_point=True)
     # An image listed by the file but used by no texture: 3 GB that are never read.
     case("unused_image_is_never_read",
          {"scene.gltf": textured_triangle("tex.png", extra_images=["unused.png"]), "tex.png": png_bytes(4, 4),
@@ -327,6 +338,24 @@ def write_case(folder, files):
             content(p)
 
 
+def full_size_cases():
+    """The adversarial review's cases at their own sizes, which take gigabytes of disk and minutes:
+    only in `make test-robustness` (--full-size). The suite's other cases are their scaled-down
+    forms."""
+    # A 2 GB data URI (a 2.7 GB .gltf): larger than the suite's 2 GiB address space, refused
+    # before it is read. Written in pieces so the generator never holds it.
+    def big_data_uri(path):
+        head, tail = json.dumps(triangle_gltf(buffer_uri="URI")).split('"URI"')
+        with open(path, "w") as f:
+            f.write(head + '"data:application/octet-stream;base64,')
+            piece = base64.b64encode(bytes(3 << 20)).decode()
+            for _ in range(2048 // 3 + 1):
+                f.write(piece)
+            f.write('"' + tail)
+    case("data_uri_of_2_gb_is_refused_before_reading", {"scene.gltf": big_data_uri}, "refused",
+         message="memory this process can take", limit_is_the_point=True)
+
+
 def main():
     out = pathlib.Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
@@ -334,6 +363,8 @@ def main():
     confinement_cases()
     silent_wrong_image_cases()
     memory_cases()
+    if "--full-size" in sys.argv[2:]:
+        full_size_cases()
     manifest = []
     for c in CASES:
         folder = out / c["name"]
