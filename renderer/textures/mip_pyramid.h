@@ -4,7 +4,7 @@
 //
 // Built lazily, by the first lookup that needs a level coarser than the image itself: a texture
 // that is never minified (or never looked up) costs no time and no memory, which keeps loading
-// free of work for textures a render may not need (issue #8).
+// free of work for textures a render may not need.
 #pragma once
 
 #include <memory>

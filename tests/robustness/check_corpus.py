@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Runs the `veach` command over a corpus of glTF files and checks the batch renderer's contract
-for bad input (README, "Exit codes"; issue 7):
+for bad input (README, "Exit codes"):
 
   * exit 0: the image exists, is not empty, no temporary file is left beside it, and the stats
     report zero non-finite samples;

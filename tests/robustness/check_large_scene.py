@@ -4,7 +4,7 @@
 Writes a .glb holding one 1001 x 1001 vertex grid (2,000,000 triangles, positions, normals,
 32-bit indices) bent into a shallow bowl, with an emissive quad above it, renders it with the
 `veach` command at a small size and reads --stats-json: peak resident memory per triangle must
-stay under --max-bytes-per-triangle (300, issue 7), and the image must have no non-finite sample.
+stay under --max-bytes-per-triangle (300), and the image must have no non-finite sample.
 Prints the numbers docs/BENCHMARKS.md reports.
 
 Takes a few seconds (about 3 s of load, build and render on the 2-core machine), so it runs in
