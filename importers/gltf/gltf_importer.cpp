@@ -51,8 +51,9 @@ constexpr uint64_t k_max_file_bytes = UINT_MAX;     // tinygltf takes 32-bit len
 constexpr size_t k_max_elements = size_t(1) << 20;  // per top-level array (nodes, accessors, ...)
 
 // Messages are one short line: tinygltf's errors come as several lines and may quote whole
-// base64 data URIs or the raw bytes near a JSON syntax error.
-std::string one_line(const std::string& text) {
+// base64 data URIs or the raw bytes near a JSON syntax error, so lines are joined with "; ",
+// base64-like runs cut short and the whole capped (more than core/one_line.h does).
+std::string short_message(const std::string& text) {
     constexpr size_t k_max_run = 48, k_max_length = 600;
     auto is_base64 = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/'; };
     std::string out;
@@ -495,7 +496,7 @@ void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
         // nlohmann's parse errors start with an exception tag that means nothing to a user.
         if (err.starts_with("[json.exception.") && err.find("] ") != std::string::npos)
             err = "invalid JSON: " + err.substr(err.find("] ") + 2);
-        throw GltfError(one_line(err.empty() ? "cannot parse the file" : err));
+        throw GltfError(short_message(err.empty() ? "cannot parse the file" : err));
     }
 
     gltf::decode_meshopt_buffer_views(m_model);
@@ -1144,14 +1145,14 @@ Scene import_bytes(std::span<const uint8_t> bytes, const std::string& base_dir, 
         GltfImporter importer(base_dir, options);
         return importer.run(bytes, binary, display_name);
     } catch (const GltfError& e) {
-        throw ImportError(display_name + ": " + one_line(e.what()));
+        throw ImportError(display_name + ": " + short_message(e.what()));
     } catch (const ImportError&) {
         throw;
     } catch (const std::bad_alloc&) {
         throw ImportError(display_name + ": out of memory");
     } catch (const std::exception& e) {
         // tinygltf and nlohmann report some faults by throwing.
-        throw ImportError(display_name + ": " + one_line(e.what()));
+        throw ImportError(display_name + ": " + short_message(e.what()));
     }
 }
 

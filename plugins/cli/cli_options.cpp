@@ -182,6 +182,14 @@ std::string device_list(VeachDevice device, const char* name, const char* separa
     return s;
 }
 
+// A device list as "a, b or c", for the refusals that name what is accepted.
+std::string device_choices(VeachDevice device, const char* name) {
+    std::string s = device_list(device, name, ", ");
+    size_t last = s.rfind(", ");
+    if (last != std::string::npos) s.replace(last, 2, " or ");
+    return s;
+}
+
 }  // namespace
 
 std::string device_string(VeachDevice d, const char* name) {
@@ -326,7 +334,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
         else if (a == "--filter") {
             const std::string& v = value();
             render_opt(string_option("filter", v),
-                       "--filter expects box, gaussian or blackman-harris, not '" + v + "'");
+                       "--filter expects " + device_choices(device, "filters") + ", not '" + v + "'");
             filter_smooth = v != "box";
         } else if (a == "--filter-width") {
             render_opt(float_option("filter_width", parse_number(a, value(), 0.01, 64)));
@@ -335,7 +343,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             const std::string& v = value();
             render_opt(
                 string_option("exr_codec", v),
-                "--exr-codec expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" + v + "'");
+                "--exr-codec expects " + device_choices(device, "exr_codecs") + ", not '" + v + "'");
         } else if (a == "--passes") {
             const std::string v = value();
             for (size_t start = 0; start <= v.size();) {

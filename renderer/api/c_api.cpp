@@ -192,11 +192,11 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
         if (n == "integrators")
             value = lines(veach::integrator_names());
         else if (n == "filters")
-            value = "box\ngaussian\nblackman-harris";
+            value = lines(veach::filter_names());
         else if (n == "passes")
             value = lines(veach::known_passes());
         else if (n == "exr_codecs")
-            value = "none\nrle\nzips\nzip\npiz\npxr24\nb44\nb44a\ndwaa\ndwab";
+            value = lines(veach::exr_codec_names());
         else if (n.rfind("color_", 0) == 0) {
             // Read on every call: $OCIO may change between calls, and listing is rare.
             veach::ColorConfigInfo info;

@@ -188,6 +188,13 @@ std::string join(const std::vector<std::string>& items, const char* separator) {
     return out;
 }
 
+// "a, b or c".
+std::string choices(const std::vector<std::string>& items) {
+    std::string out;
+    for (size_t i = 0; i < items.size(); ++i) out += (i == 0 ? "" : i + 1 == items.size() ? " or " : ", ") + items[i];
+    return out;
+}
+
 // "combined,depth": each a known pass, once, in the order given.
 std::vector<std::string> parse_passes(const std::string& v) {
     std::vector<std::string> passes;
@@ -417,7 +424,8 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
             render->m_job.camera = v;
         } else if (n == "filter") {
             if (!veach::parse_filter_name(v, &render->m_job.film.filter.type))
-                throw invalid("option 'filter': unknown filter '" + v + "' (known: box, gaussian, blackman-harris)");
+                throw invalid("option 'filter': unknown filter '" + v + "' (known: " + join(veach::filter_names(), ", ") +
+                              ")");
         } else if (n == "sampler") {
             if (v == "sobol")
                 render->m_job.render.sampler = veach::SamplerKind::Sobol;
@@ -433,9 +441,7 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
             render->m_output.display.look = v;
         else if (n == "exr_codec") {
             if (!veach::is_exr_codec(v))
-                throw invalid(
-                    "option 'exr_codec': expects none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab, not '" + v +
-                    "'");
+                throw invalid("option 'exr_codec': expects " + choices(veach::exr_codec_names()) + ", not '" + v + "'");
             render->m_output.exr_codec = v;
         } else if (n == "passes") {
             render->m_output.passes = parse_passes(v);

@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/one_line.h"
 #include "output/atomic_file.h"
 
 namespace veach {
@@ -25,12 +26,6 @@ constexpr uint32_t k_max_header = 1 << 16;
 // Doubles are byte-shuffled in blocks of this many (byte 0 of each, then byte 1, ...): the high
 // bytes of neighbouring sums repeat, which zlib then finds.
 constexpr size_t k_block_doubles = 1 << 16;
-
-std::string one_line(std::string s) {
-    for (char& c : s)
-        if (c == '\n' || c == '\r') c = ' ';
-    return s;
-}
 
 std::string number(double v) {
     char buf[40];

@@ -14,25 +14,40 @@ constexpr int k_subsamples = 8;  // midpoint rule inside each bin for its integr
 constexpr double k_pi = 3.14159265358979323846;
 }  // namespace
 
+namespace {
+struct NamedFilter {
+    FilterType type;
+    const char* name;
+};
+constexpr NamedFilter k_filters[] = {
+    {FilterType::box, "box"}, {FilterType::gaussian, "gaussian"}, {FilterType::blackman_harris, "blackman-harris"}};
+}  // namespace
+
 const char* filter_name(FilterType type) {
-    switch (type) {
-        case FilterType::box: return "box";
-        case FilterType::gaussian: return "gaussian";
-        case FilterType::blackman_harris: return "blackman-harris";
-    }
+    for (const NamedFilter& f : k_filters)
+        if (f.type == type) return f.name;
     return "box";
 }
 
 bool parse_filter_name(const std::string& name, FilterType* type) {
-    if (name == "box")
-        *type = FilterType::box;
-    else if (name == "gaussian")
-        *type = FilterType::gaussian;
-    else if (name == "blackman-harris" || name == "blackman_harris")
-        *type = FilterType::blackman_harris;
-    else
-        return false;
+    for (const NamedFilter& f : k_filters) {
+        if (name == f.name) {
+            *type = f.type;
+            return true;
+        }
+    }
+    if (name != "blackman_harris") return false;  // the enum's spelling, accepted too
+    *type = FilterType::blackman_harris;
     return true;
+}
+
+const std::vector<std::string>& filter_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n;
+        for (const NamedFilter& f : k_filters) n.push_back(f.name);
+        return n;
+    }();
+    return names;
 }
 
 float PixelFilter::support_width(FilterType type, float width) {

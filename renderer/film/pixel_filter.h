@@ -29,6 +29,8 @@ struct FilterSettings {
 const char* filter_name(FilterType type);
 // Accepts the names above (and "blackman_harris"); false for anything else.
 bool parse_filter_name(const std::string& name, FilterType* type);
+// The names above, in that order: what the C API lists and its messages quote.
+const std::vector<std::string>& filter_names();
 
 class PixelFilter {
 public:

@@ -1,5 +1,7 @@
 #include "integrators/surface_hit.h"
 
+#include "materials/gltf_material.h"
+
 namespace veach {
 
 namespace {
@@ -17,7 +19,7 @@ Vec3 apply_normal_map(const RenderScene& rs, const TextureRef& ref, float scale,
                       uint32_t instance, const uint32_t* idx, float b0, float b1, float b2,
                       const SurfaceAttributes& attr, const Vec3& ng, const Vec3& ns) {
     if (static_cast<size_t>(ref.texture) >= rs.scene().textures.size()) return ns;
-    Vec3 t = mesh.tangents[idx[0]] * b0 + mesh.tangents[idx[1]] * b1 + mesh.tangents[idx[2]] * b2;
+    Vec3 t = interpolate_vertices(mesh.tangents, idx, b0, b1, b2);
     float w = mesh.tangent_signs[idx[0]];
     if (!inst.object_to_world.is_identity()) {
         t = inst.object_to_world.vector(t);
@@ -27,7 +29,7 @@ Vec3 apply_normal_map(const RenderScene& rs, const TextureRef& ref, float scale,
     // bitangent's direction.
     Vec3 n = ns;
     if (!mesh.normals.empty()) {
-        Vec3 nv = mesh.normals[idx[0]] * b0 + mesh.normals[idx[1]] * b1 + mesh.normals[idx[2]] * b2;
+        Vec3 nv = interpolate_vertices(mesh.normals, idx, b0, b1, b2);
         if (!inst.object_to_world.is_identity()) nv = rs.world_to_object(instance).normal_by_inverse(nv);
         if (dot(nv, n) < 0.0f) n = -n;
     }
@@ -105,7 +107,7 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
 
     Vec3 p0, p1, p2;
     rs.accel().triangle_world(hit.instance, hit.prim, &p0, &p1, &p2);
-    s.p = p0 * b0 + p1 * b1 + p2 * b2;
+    s.p = barycentric(p0, p1, p2, b0, b1, b2);
     s.p_error = (abs(p0 * b0) + abs(p1 * b1) + abs(p2 * b2)) * k_position_error_scale;
 
     Vec3 c = cross(p1 - p0, p2 - p0);
@@ -113,7 +115,7 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     s.ng = len > 0.0f ? c / len : Vec3(0, 0, 1);
 
     if (!mesh.normals.empty()) {
-        Vec3 n = mesh.normals[idx[0]] * b0 + mesh.normals[idx[1]] * b1 + mesh.normals[idx[2]] * b2;
+        Vec3 n = interpolate_vertices(mesh.normals, idx, b0, b1, b2);
         if (!inst.object_to_world.is_identity()) n = rs.world_to_object(hit.instance).normal_by_inverse(n);
         float nl = length(n);
         if (nl > 0.0f && std::isfinite(nl)) {
@@ -143,13 +145,7 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
         else if (mat.normal_texture.valid())
             s.ns_coat = ns_vertex;
     }
-    if (!mesh.colors.empty()) {
-        const Rgba& c0 = mesh.colors[idx[0]];
-        const Rgba& c1 = mesh.colors[idx[1]];
-        const Rgba& c2 = mesh.colors[idx[2]];
-        s.attr.color = {b0 * c0.r + b1 * c1.r + b2 * c2.r, b0 * c0.g + b1 * c1.g + b2 * c2.g,
-                        b0 * c0.b + b1 * c1.b + b2 * c2.b, b0 * c0.a + b1 * c1.a + b2 * c2.a};
-    }
+    if (!mesh.colors.empty()) s.attr.color = interpolate_vertices(mesh.colors, idx, b0, b1, b2);
     return s;
 }
 

@@ -5,8 +5,8 @@
 
 #include "accel/embree_accel.h"
 #include "integrators/render_scene.h"
-#include "materials/gltf_material.h"
 #include "scene/scene.h"
+#include "scene/surface_attributes.h"
 
 namespace veach {
 

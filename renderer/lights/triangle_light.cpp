@@ -3,6 +3,7 @@
 #include "core/sampling.h"
 #include "materials/gltf_material.h"
 #include "scene/scene.h"
+#include "scene/surface_attributes.h"
 
 namespace veach {
 

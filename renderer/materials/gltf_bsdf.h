@@ -52,6 +52,7 @@
 
 #include "materials/gltf_material.h"
 #include "materials/microfacet_reflection.h"
+#include "materials/transport_mode.h"
 
 namespace veach {
 

@@ -2,14 +2,11 @@
 // parameters the BSDF (gltf_bsdf.h) is built from.
 #pragma once
 
-#include <cstdint>
-
 #include "core/rgb.h"
 #include "scene/scene.h"
+#include "scene/surface_attributes.h"
 
 namespace veach {
-
-enum class TransportMode : uint8_t { Radiance, Importance };
 
 // A material's parameters at one surface point, after textures.
 struct ShadingInputs {
@@ -31,26 +28,6 @@ struct ShadingInputs {
     float sheen_roughness = 0;
     Rgb emission;
 };
-
-struct SurfaceAttributes {
-    Vec2 uv[2];
-    Rgba color{1, 1, 1, 1};
-    // Width of the ray's footprint in each UV set's units, for choosing mip levels
-    // (texture_sampling.h); 0, the default, looks up the full-resolution image. Set by
-    // make_surface_hit from a ray cone (integrators/surface_hit.h).
-    float uv_footprint[2] = {0, 0};
-};
-
-// TEXCOORD_0/1 of triangle `idx` (three vertex indices) at barycentrics (b0, b1, b2).
-inline void interpolate_uvs(const Mesh& mesh, const uint32_t* idx, float b0, float b1, float b2,
-                            SurfaceAttributes* attr) {
-    for (int set = 0; set < 2; ++set) {
-        const std::vector<Vec2>& uv = set == 0 ? mesh.uv0 : mesh.uv1;
-        if (uv.empty()) continue;
-        attr->uv[set] = {b0 * uv[idx[0]].x + b1 * uv[idx[1]].x + b2 * uv[idx[2]].x,
-                         b0 * uv[idx[0]].y + b1 * uv[idx[1]].y + b2 * uv[idx[2]].y};
-    }
-}
 
 // One texture of a material at a surface point: the TextureRef's UV set, KHR_texture_transform
 // and the ray's footprint in that set (mip level). `ref` must name a texture of `scene`.

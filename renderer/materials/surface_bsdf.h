@@ -14,6 +14,7 @@
 
 #include "core/math.h"
 #include "materials/gltf_bsdf.h"
+#include "materials/transport_mode.h"
 
 namespace veach {
 

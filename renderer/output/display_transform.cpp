@@ -9,6 +9,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/one_line.h"
+
 namespace OCIO = OCIO_NAMESPACE;
 
 namespace veach {
@@ -18,14 +20,6 @@ namespace {
 constexpr const char* k_linear_space = "Linear Rec.709";
 constexpr const char* k_srgb_space = "sRGB";
 constexpr const char* k_raw_space = "Raw";
-
-// OCIO messages sometimes span lines; OutputError promises one.
-std::string one_line(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    std::replace(s.begin(), s.end(), '\r', ' ');
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s;
-}
 
 std::string join(const std::vector<std::string>& items) {
     if (items.empty()) return "(none)";

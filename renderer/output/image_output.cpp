@@ -13,6 +13,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "core/one_line.h"
 #include "output/atomic_file.h"
 #include "output/display_transform.h"
 
@@ -23,6 +24,14 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Format { exr, hdr, png, jpeg, tiff };
+
+// OpenEXR's compressions, in the order the API lists them; max_level 0: takes no level.
+struct ExrCodec {
+    const char* name;
+    int max_level;
+};
+constexpr ExrCodec k_exr_codecs[] = {{"none", 0}, {"rle", 0},   {"zips", 9},  {"zip", 9},     {"piz", 0},
+                                     {"pxr24", 0}, {"b44", 0}, {"b44a", 0}, {"dwaa", 1000}, {"dwab", 1000}};
 
 struct FormatInfo {
     Format format;
@@ -50,13 +59,6 @@ bool format_of(const std::string& path, FormatInfo& info) {
     else
         return false;
     return true;
-}
-
-std::string one_line(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    std::replace(s.begin(), s.end(), '\r', ' ');
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s;
 }
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
@@ -166,9 +168,11 @@ Encoded encode(const Image& image, const std::string& path, const FormatInfo& in
     const int w = image.width, h = image.height;
     switch (info.format) {
         case Format::exr:
-            if (!is_exr_codec(settings.exr_codec))
-                fail(path, "unknown EXR codec '" + settings.exr_codec +
-                               "' (known: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
+            if (!is_exr_codec(settings.exr_codec)) {
+                std::string known;
+                for (const std::string& n : exr_codec_names()) known += (known.empty() ? "" : ", ") + n;
+                fail(path, "unknown EXR codec '" + settings.exr_codec + "' (known: " + known + ")");
+            }
             if (settings.passes.empty()) {
                 enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
                 enc.type = OIIO::TypeDesc::FLOAT;
@@ -292,21 +296,25 @@ bool is_known_image_format(const std::string& path) {
 bool is_exr_codec(const std::string& codec) {
     const size_t colon = codec.find(':');
     const std::string name = codec.substr(0, colon);
-    static const char* const plain[] = {"none", "rle", "piz", "pxr24", "b44", "b44a"};
-    static const char* const levelled[] = {"zip", "zips", "dwaa", "dwab"};
-    if (colon == std::string::npos) {
-        for (const char* n : plain)
-            if (name == n) return true;
-    }
-    for (const char* n : levelled) {
-        if (name != n) continue;
+    for (const ExrCodec& c : k_exr_codecs) {
+        if (name != c.name) continue;
         if (colon == std::string::npos) return true;
+        if (c.max_level == 0) return false;
         const std::string level = codec.substr(colon + 1);
         if (level.empty() || level.size() > 4 || !std::all_of(level.begin(), level.end(), ::isdigit)) return false;
         const int v = std::stoi(level);
-        return name[0] == 'z' ? (v >= 1 && v <= 9) : (v >= 1 && v <= 1000);
+        return v >= 1 && v <= c.max_level;
     }
     return false;
+}
+
+const std::vector<std::string>& exr_codec_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n;
+        for (const ExrCodec& c : k_exr_codecs) n.push_back(c.name);
+        return n;
+    }();
+    return names;
 }
 
 const std::vector<std::string>& known_passes() {

@@ -43,6 +43,8 @@ bool is_known_image_format(const std::string& path);
 // OpenEXR compressions: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab; zip, zips,
 // dwaa and dwab may carry a level ("zip:9", "dwaa:45").
 bool is_exr_codec(const std::string& codec);
+// The compressions' names above, in that order: what the C API lists and its messages quote.
+const std::vector<std::string>& exr_codec_names();
 // The pass names write_image() knows, in file order.
 const std::vector<std::string>& known_passes();
 // True when a pass needs the film's first-hit AOVs (depth, normal, albedo).

@@ -184,6 +184,12 @@ TEST(PixelFilter, NamesAndBadWidths) {
     EXPECT_EQ(t, FilterType::blackman_harris);
     EXPECT_TRUE(parse_filter_name("gaussian", &t));
     EXPECT_FALSE(parse_filter_name("mitchell", &t));
+    // The listed names are the ones parsed, each naming its own filter.
+    ASSERT_EQ(filter_names(), std::vector<std::string>({"box", "gaussian", "blackman-harris"}));
+    for (const std::string& n : filter_names()) {
+        ASSERT_TRUE(parse_filter_name(n, &t)) << n;
+        EXPECT_EQ(filter_name(t), n);
+    }
     EXPECT_THROW(PixelFilter({FilterType::gaussian, 0.0f}), std::invalid_argument);
     EXPECT_THROW(PixelFilter({FilterType::box, -1.0f}), std::invalid_argument);
 }

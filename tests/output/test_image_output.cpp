@@ -403,6 +403,14 @@ TEST_F(ImageOutputTest, MultiLayerExrUsesBlenderPassNames) {
     EXPECT_EQ(listing(), std::vector<std::string>({"layers.exr"}));
     EXPECT_TRUE(is_exr_codec("dwaa:45") && is_exr_codec("zip:9") && is_exr_codec("none"));
     EXPECT_FALSE(is_exr_codec("zip:0") || is_exr_codec("piz:3") || is_exr_codec(""));
+    // Every listed codec is accepted; levels only where OpenEXR takes one (zip 1-9, dwa 1-1000).
+    ASSERT_EQ(exr_codec_names().size(), 10u);
+    for (const std::string& c : exr_codec_names()) {
+        EXPECT_TRUE(is_exr_codec(c)) << c;
+        const bool levelled = c == "zip" || c == "zips" || c == "dwaa" || c == "dwab";
+        EXPECT_EQ(is_exr_codec(c + ":9"), levelled) << c;
+        EXPECT_FALSE(is_exr_codec(c + (c[0] == 'z' ? ":10" : ":1001"))) << c;
+    }
 }
 
 TEST_F(ImageOutputTest, MissingFolderThrowsAndCreatesNothing) {

@@ -9,6 +9,7 @@
 
 #include "core/rng.h"
 #include "integrators/surface_hit.h"
+#include "materials/gltf_material.h"
 #include "render_helpers.h"
 #include "test_scenes.h"
 

@@ -7,6 +7,7 @@
 
 #include "core/rgb.h"
 #include "materials/surface_bsdf.h"
+#include "scene/surface_attributes.h"
 
 namespace veach {
 
