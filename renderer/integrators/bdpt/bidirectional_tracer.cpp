@@ -78,7 +78,10 @@ private:
     bool wanted(int s, int t) const {
         if (s + t - 2 > m_settings.max_depth) return false;
         if (m_options.only_s >= 0) return s == m_options.only_s && t == m_options.only_t;
-        if (m_options.light_tracing_only) return t == 1;
+        // Light tracing: the t = 1 strategies, and the camera ray that escapes to a light at
+        // infinity (s = 0, t = 2), the one path no light subpath can reach: a particle from
+        // infinity meets the pinhole with probability zero.
+        if (m_options.light_tracing_only) return t == 1 || (s == 0 && t == 2);
         return true;
     }
     bool weighted() const { return m_options.only_s < 0 && !m_options.light_tracing_only; }
@@ -201,7 +204,8 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
 void Tracer::add_shape_lights_crossed(std::vector<PathVertex>& path, int count, const Vec3& origin, const Vec3& dir,
                                       float t_max, const Rgb& beta, const Rgb& sigma, float pdf_w) {
     int t = count + 1;
-    if (count >= static_cast<int>(path.size()) || !wanted(0, t)) return;
+    // Light tracing reaches a shaped light the camera sees by its s = 1, t = 1 strategy.
+    if (count >= static_cast<int>(path.size()) || !wanted(0, t) || m_options.light_tracing_only) return;
     for (uint32_t index : m_lights.shape_lights()) {
         LightHit lh;
         if (!m_lights.intersect(index, origin, dir, t_max, &lh)) continue;
@@ -405,6 +409,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
             if (s == 0) {
                 // The camera subpath found an emitter by itself.
                 if (t < 2 || z.light < 0) continue;
+                if (m_options.light_tracing_only && !z.infinite) continue;  // reached by s = 1, t = 1
                 if (z.infinite) {
                     // The camera ray itself escaped: a transparent film's background, which no
                     // other strategy samples (see mis_weight), so nothing else is left out.
