@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -66,15 +67,26 @@ struct Accel::Impl {
     const Scene& scene;
     RTCDevice device = nullptr;
     RTCScene top = nullptr;
-    std::vector<RTCScene> mesh_scenes;                  // per mesh placed several times, else null
+    RTCScene static_scene = nullptr;                    // movable layout: the baked geometry, or null
+    std::vector<RTCScene> mesh_scenes;                  // per mesh with a BVH of its own, else null
+    std::vector<RTCGeometry> mesh_geometry;             // per mesh in a BVH of its own (retained)
+    std::vector<Vec3*> mesh_vertices;                   // per deforming mesh: its Embree-owned vertices
     std::vector<std::vector<Vec3>> baked;               // per instance: world positions, or empty
     std::vector<uint32_t> geom_to_instance;             // top-level geometry id -> instance
+    std::vector<RTCGeometry> instance_geometry;         // per instance referenced by an Embree instance
     std::vector<std::unique_ptr<AlphaGeometry>> alpha;  // filter data, stable addresses
+    unsigned static_id = RTC_INVALID_GEOMETRY_ID;       // the static BVH's instance in the top level
+    std::vector<uint32_t> static_to_instance;           // static BVH geometry id -> instance
 
     explicit Impl(const Scene& s) : scene(s) {}
     ~Impl() {
+        for (RTCGeometry g : instance_geometry)
+            if (g) rtcReleaseGeometry(g);
+        for (RTCGeometry g : mesh_geometry)
+            if (g) rtcReleaseGeometry(g);
         for (RTCScene sc : mesh_scenes)
             if (sc) rtcReleaseScene(sc);
+        if (static_scene) rtcReleaseScene(static_scene);
         if (top) rtcReleaseScene(top);
         if (device) rtcReleaseDevice(device);
     }
@@ -92,6 +104,32 @@ struct Accel::Impl {
         return g;
     }
 
+    // The BVH of mesh `m` in its own space, built once, for instances to reference. Embree needs
+    // the padding element, so these meshes get their own copy of the vertices too; a deforming
+    // mesh keeps a pointer to it (update() writes there) and asks for refitting.
+    RTCScene mesh_scene(uint32_t m, bool deforming) {
+        RTCScene& sub = mesh_scenes[m];
+        if (sub) return sub;
+        const Mesh& mesh = scene.meshes[m];
+        sub = rtcNewScene(device);
+        // Refitting is a per-geometry quality, which Embree honours in its two-level (LOW) mode.
+        rtcSetSceneBuildQuality(sub, deforming ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
+        RTCGeometry mg = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        if (deforming) rtcSetGeometryBuildQuality(mg, RTC_BUILD_QUALITY_REFIT);
+        auto* vb = static_cast<Vec3*>(rtcSetNewGeometryBuffer(mg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              sizeof(Vec3), mesh.positions.size()));
+        std::copy(mesh.positions.begin(), mesh.positions.end(), vb);
+        if (deforming) mesh_vertices[m] = vb;
+        rtcSetSharedGeometryBuffer(mg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                                   3 * sizeof(uint32_t), mesh.triangle_count());
+        install_alpha_filter(mg, mesh);
+        rtcCommitGeometry(mg);
+        rtcAttachGeometry(sub, mg);
+        mesh_geometry[m] = mg;  // our reference, kept for update()
+        rtcCommitScene(sub);
+        return sub;
+    }
+
     // Alpha-tested materials get intersection and occlusion filters; everything else none.
     void install_alpha_filter(RTCGeometry g, const Mesh& mesh) {
         const Material& m = scene.material_of(mesh);
@@ -100,6 +138,25 @@ struct Accel::Impl {
         rtcSetGeometryUserData(g, alpha.back().get());
         rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
         rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
+    }
+
+    void set_transform(RTCGeometry g, const Transform& t) {
+        float xfm[12];  // RTC_FORMAT_FLOAT3X4_ROW_MAJOR
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) xfm[r * 4 + c] = t.m[r][c];
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+        rtcCommitGeometry(g);
+    }
+
+    unsigned attach(RTCGeometry g, uint32_t instance) {
+        unsigned id = rtcAttachGeometry(top, g);
+        if (geom_to_instance.size() <= id) geom_to_instance.resize(id + 1, 0);
+        geom_to_instance[id] = instance;
+        return id;
+    }
+
+    void check(const char* what) const {
+        if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree: ") + what);
     }
 };
 
@@ -120,53 +177,89 @@ Accel::Accel(const Scene& scene) : m_impl(std::make_unique<Impl>(scene)) {
 
     std::vector<uint32_t> uses(scene.meshes.size(), 0);
     for (const Instance& inst : scene.instances) uses[inst.mesh]++;
+    const std::vector<uint8_t> movable = movable_instances(scene);
+    std::vector<uint8_t> deforming(scene.meshes.size(), 0);
+    for (const DeformingMesh& dm : scene.animation.deforming) deforming[dm.mesh] = 1;
+    const bool layered = std::find(movable.begin(), movable.end(), 1) != movable.end();
+    if (layered) {
+        d.static_scene = rtcNewScene(d.device);
+        rtcSetSceneBuildQuality(d.static_scene, RTC_BUILD_QUALITY_HIGH);
+    }
     d.mesh_scenes.assign(scene.meshes.size(), nullptr);
+    d.mesh_geometry.assign(scene.meshes.size(), nullptr);
+    d.mesh_vertices.assign(scene.meshes.size(), nullptr);
+    d.instance_geometry.assign(scene.instances.size(), nullptr);
     d.baked.resize(scene.instances.size());
+    // Top-level ids of the baked geometry in the static BVH: the instance it belongs to.
+    std::vector<uint32_t> static_to_instance;
 
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
         const Mesh& mesh = scene.meshes[inst.mesh];
         if (mesh.triangle_count() == 0 || mesh.positions.empty()) continue;
-        RTCGeometry g;
-        if (uses[inst.mesh] == 1) {
+        if (uses[inst.mesh] == 1 && !movable[i]) {
             std::vector<Vec3>& w = d.baked[i];
             w.resize(mesh.positions.size() + 1);
             for (size_t v = 0; v < mesh.positions.size(); ++v) w[v] = inst.object_to_world.point(mesh.positions[v]);
-            g = d.make_triangles(w.data(), mesh.positions.size(), mesh);
-        } else {
-            RTCScene& sub = d.mesh_scenes[inst.mesh];
-            if (!sub) {
-                sub = rtcNewScene(d.device);
-                rtcSetSceneBuildQuality(sub, RTC_BUILD_QUALITY_HIGH);
-                // Embree needs the padding element, so instanced meshes get their own copy too.
-                RTCGeometry mg = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-                auto* vb = static_cast<Vec3*>(rtcSetNewGeometryBuffer(mg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                      sizeof(Vec3), mesh.positions.size()));
-                std::copy(mesh.positions.begin(), mesh.positions.end(), vb);
-                rtcSetSharedGeometryBuffer(mg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
-                                           3 * sizeof(uint32_t), mesh.triangle_count());
-                d.install_alpha_filter(mg, mesh);
-                rtcCommitGeometry(mg);
-                rtcAttachGeometry(sub, mg);
-                rtcReleaseGeometry(mg);
-                rtcCommitScene(sub);
+            RTCGeometry g = d.make_triangles(w.data(), mesh.positions.size(), mesh);
+            if (layered) {
+                unsigned id = rtcAttachGeometry(d.static_scene, g);
+                if (static_to_instance.size() <= id) static_to_instance.resize(id + 1, 0);
+                static_to_instance[id] = uint32_t(i);
+            } else {
+                d.attach(g, uint32_t(i));
             }
-            g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
-            rtcSetGeometryInstancedScene(g, sub);
-            float xfm[12];  // RTC_FORMAT_FLOAT3X4_ROW_MAJOR
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 4; ++c) xfm[r * 4 + c] = inst.object_to_world.m[r][c];
-            rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
-            rtcCommitGeometry(g);
+            rtcReleaseGeometry(g);
+            continue;
         }
-        unsigned id = rtcAttachGeometry(d.top, g);
+        RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, d.mesh_scene(inst.mesh, deforming[inst.mesh] != 0));
+        d.set_transform(g, inst.object_to_world);
+        d.attach(g, uint32_t(i));
+        d.instance_geometry[i] = g;  // our reference, kept for update()
+    }
+    if (layered) {
+        rtcCommitScene(d.static_scene);
+        RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, d.static_scene);
+        d.set_transform(g, Transform{});
+        d.static_id = rtcAttachGeometry(d.top, g);
         rtcReleaseGeometry(g);
-        if (d.geom_to_instance.size() <= id) d.geom_to_instance.resize(id + 1, 0);
-        d.geom_to_instance[id] = static_cast<uint32_t>(i);
+        d.static_to_instance = std::move(static_to_instance);
     }
     rtcCommitScene(d.top);
-    if (rtcGetDeviceError(d.device) != RTC_ERROR_NONE)
-        throw std::runtime_error("Embree: building the acceleration structure failed");
+    d.check("building the acceleration structure failed");
+}
+
+bool Accel::update(const SceneChanges& changes) {
+    Impl& d = *m_impl;
+    const Scene& scene = d.scene;
+    // Everything checked before anything is touched: a refusal leaves the accel as it was.
+    for (uint32_t m : changes.deformed_meshes)
+        if (m >= scene.meshes.size() || (scene.meshes[m].triangle_count() > 0 && !d.mesh_vertices[m])) return false;
+    for (uint32_t i : changes.moved_instances) {
+        if (i >= scene.instances.size()) return false;
+        const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+        if (mesh.triangle_count() > 0 && !mesh.positions.empty() && !d.instance_geometry[i]) return false;
+    }
+    bool top_changed = false;
+    for (uint32_t m : changes.deformed_meshes) {
+        const Mesh& mesh = scene.meshes[m];
+        if (!d.mesh_vertices[m]) continue;
+        std::copy(mesh.positions.begin(), mesh.positions.end(), d.mesh_vertices[m]);
+        rtcUpdateGeometryBuffer(d.mesh_geometry[m], RTC_BUFFER_TYPE_VERTEX, 0);
+        rtcCommitGeometry(d.mesh_geometry[m]);
+        rtcCommitScene(d.mesh_scenes[m]);  // refits
+        top_changed = true;
+    }
+    for (uint32_t i : changes.moved_instances) {
+        if (!d.instance_geometry[i]) continue;
+        d.set_transform(d.instance_geometry[i], scene.instances[i].object_to_world);
+        top_changed = true;
+    }
+    if (top_changed) rtcCommitScene(d.top);
+    d.check("updating the acceleration structure failed");
+    return true;
 }
 
 Accel::~Accel() = default;
@@ -193,7 +286,8 @@ bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* 
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     unsigned top_id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
     hit->t = rh.ray.tfar;
-    hit->instance = m_impl->geom_to_instance[top_id];
+    hit->instance = top_id == m_impl->static_id ? m_impl->static_to_instance[rh.hit.geomID]
+                                                : m_impl->geom_to_instance[top_id];
     hit->prim = rh.hit.primID;
     hit->u = rh.hit.u;
     hit->v = rh.hit.v;

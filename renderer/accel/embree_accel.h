@@ -1,6 +1,13 @@
 // Ray queries against the scene's geometry. The only place that includes Embree: meshes placed
 // once are baked to world space and put in the top-level BVH directly; meshes placed several
 // times are built once and referenced by Embree instances.
+//
+// A scene whose pose can change (scene/scene_changes.h movable_instances) gets a layout that can
+// follow it without rebuilding what never moves: the baked static geometry sits in one BVH of
+// its own, referenced from the top level by an identity instance (exact: the ray is multiplied by
+// the identity), each movable rigid instance is an Embree instance of its mesh's BVH, and each
+// deforming mesh has its own BVH with an Embree-owned vertex buffer, refitted when it deforms.
+// update() then sets transforms, copies vertices, refits and recommits the small top level.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +16,7 @@
 
 #include "core/math.h"
 #include "scene/scene.h"
+#include "scene/scene_changes.h"
 
 namespace veach {
 
@@ -39,6 +47,13 @@ public:
 
     // World-space vertex positions of a triangle (baked or transformed on the fly).
     void triangle_world(uint32_t instance, uint32_t prim, Vec3* p0, Vec3* p1, Vec3* p2) const;
+
+    // Follows the scene (the one given to the constructor, re-posed since) after `changes`:
+    // moved instances get their new transform, deformed meshes their new vertices (the BVH
+    // refitted), and the top level is recommitted. False, with nothing to rely on, when a change
+    // touches geometry that was baked into world space: the caller builds a new Accel. Not while
+    // rays are traced.
+    bool update(const SceneChanges& changes);
 
 private:
     struct Impl;

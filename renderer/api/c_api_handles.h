@@ -14,6 +14,7 @@
 #include "api/environment_options.h"
 #include "api/render_job.h"
 #include "importers/importer.h"
+#include "integrators/prepared_scene.h"
 #include "output/image_output.h"
 #include "scene/scene.h"
 #include "veach/veach.h"
@@ -63,6 +64,10 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     // another file, variant or environment is refused.
     uint64_t m_content_hash = 0;
     veach::Scene m_scene;
+    // The BVH and light tables of m_scene, built by its first render and kept: a re-pose notes
+    // what it changed here, and the next render updates only that (docs/ARCHITECTURE.md
+    // "Animation"). Declared after m_scene, which it refers to, so that it goes first.
+    veach::PreparedSceneCache m_prepared;
     ~VeachSceneImpl();
 };
 

@@ -70,7 +70,8 @@ VeachError VeachRenderImpl::run() {
     std::string message;
     VeachStatus status = VEACH_STATUS_DONE;
     try {
-        auto result = std::make_shared<veach::RenderResult>(veach::render_scene(m_scene->m_scene, job, control));
+        auto result = std::make_shared<veach::RenderResult>(
+            veach::render_scene(m_scene->m_scene, job, control, &m_scene->m_prepared));
         // A time limit shorter than the first pass leaves no image at all: an error, never an
         // empty image presented as the render.
         if (result->stats.spp_done == 0 && !result->stats.cancelled && job.render.time_limit > 0) {

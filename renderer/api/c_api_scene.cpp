@@ -15,6 +15,7 @@
 #include "api/c_api_handles.h"
 #include "core/content_hash.h"
 #include "film/film_checkpoint.h"
+#include "scene/scene_changes.h"
 #include "scene/scene_repair.h"
 
 using veach::capi::ApiError;
@@ -275,8 +276,10 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
             const double before = scene->m_time;
             scene->m_time = value;
             try {
+                const veach::ScenePose before = veach::capture_pose(scene->m_scene);
                 veach::pose_scene(scene->m_scene, value);
                 veach::rebase_scene(scene->m_scene);
+                scene->m_prepared.note(veach::changes_since(before, scene->m_scene));
                 scene->m_content_hash = scene_options_hash(*scene, scene->m_file_hash, scene->m_env_map_hash);
             } catch (...) {
                 scene->m_time = before;

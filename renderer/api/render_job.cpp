@@ -77,7 +77,8 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
 
 }  // namespace
 
-RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control) {
+RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control,
+                          PreparedSceneCache* prepared) {
     using clock = std::chrono::steady_clock;
     const Camera* camera = select_camera(scene, options.camera);
     int width = options.width > 0 ? options.width : 1920;
@@ -121,7 +122,8 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     check_scene_extent(scene);
     check_render_memory(scene, options, width, height);
     auto t0 = clock::now();
-    RenderScene rs(scene, camera, width, height);
+    RenderScene rs(prepared ? prepared->get(scene) : std::make_shared<const PreparedScene>(scene), camera, width,
+                   height);
     auto t1 = clock::now();
     auto film_ptr = std::make_shared<Film>(width, height, options.film);
     Film& film = *film_ptr;

@@ -9,6 +9,7 @@
 #include "film/film.h"
 #include "film/film_part.h"
 #include "integrators/integrator.h"
+#include "integrators/prepared_scene.h"
 #include "scene/scene.h"
 
 namespace veach {
@@ -71,7 +72,10 @@ uint64_t checkpoint_key(const RenderJobOptions& options, const std::string& came
 
 // Renders; throws std::invalid_argument for bad settings, CheckpointError (film/film_checkpoint.h)
 // for a checkpoint that cannot be read or written.
-RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control = {});
+// With `prepared`, the BVH and light tables come from (and stay in) that cache: a sequence's
+// frames update them instead of building them again.
+RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control = {},
+                          PreparedSceneCache* prepared = nullptr);
 
 // Peak resident set size of this process in bytes (from /proc), 0 if unknown.
 size_t peak_resident_bytes();

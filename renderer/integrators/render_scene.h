@@ -1,49 +1,39 @@
 // Everything an integrator reads while rendering: the scene, its BVH, its lights and the camera,
-// built once per render and shared read-only by all threads.
+// shared read-only by all threads. The BVH and lights (PreparedScene) may outlive the render: a
+// sequence keeps them across frames.
 #pragma once
 
-#include <vector>
+#include <memory>
 
-#include "accel/embree_accel.h"
 #include "camera/camera_model.h"
-#include "lights/light_set.h"
-#include "scene/mesh_topology.h"
+#include "integrators/prepared_scene.h"
 #include "scene/scene.h"
 
 namespace veach {
 
 class RenderScene {
 public:
+    // Prepares the scene for this render alone.
     RenderScene(const Scene& scene, const Camera* camera, int width, int height)
-        : m_scene(scene), m_accel(scene), m_lights(scene, m_accel), m_camera(camera, scene.bounds(), width, height) {
-        m_world_to_object.reserve(scene.instances.size());
-        for (const Instance& inst : scene.instances) m_world_to_object.push_back(inverse(inst.object_to_world));
-        m_thin_walled.resize(scene.meshes.size(), 0);
-        for (size_t i = 0; i < scene.meshes.size(); ++i) {
-            const Material& m = scene.material_of(scene.meshes[i]);
-            if (m.transmission > 0.0f || m.transmission_texture.valid())
-                m_thin_walled[i] = is_closed_mesh(scene.meshes[i]) ? 0 : 1;
-        }
-    }
+        : RenderScene(std::make_shared<const PreparedScene>(scene), camera, width, height) {}
+    // Renders what `prepared` holds (its scene as prepared or last updated).
+    RenderScene(std::shared_ptr<const PreparedScene> prepared, const Camera* camera, int width, int height)
+        : m_prepared(std::move(prepared)), m_camera(camera, m_prepared->bounds(), width, height) {}
 
-    const Scene& scene() const { return m_scene; }
-    const Accel& accel() const { return m_accel; }
-    const LightSet& lights() const { return m_lights; }
+    const Scene& scene() const { return m_prepared->scene(); }
+    const Accel& accel() const { return m_prepared->accel(); }
+    const LightSet& lights() const { return m_prepared->lights(); }
     const CameraModel& camera() const { return m_camera; }
     // The inverse of an instance's transform: normals transform by its transpose.
-    const Transform& world_to_object(uint32_t instance) const { return m_world_to_object[instance]; }
+    const Transform& world_to_object(uint32_t instance) const { return m_prepared->world_to_object(instance); }
     // A transmissive mesh that encloses no volume (a single plane, an open sheet) is a thin wall
     // (KHR_materials_volume's thin-walled case): light passes through it without refracting into
     // an interior, so without the 1/eta^2 of entering one (README "What it renders").
-    bool thin_walled(uint32_t mesh) const { return m_thin_walled[mesh] != 0; }
+    bool thin_walled(uint32_t mesh) const { return m_prepared->thin_walled(mesh); }
 
 private:
-    const Scene& m_scene;
-    Accel m_accel;
-    LightSet m_lights;
+    std::shared_ptr<const PreparedScene> m_prepared;
     CameraModel m_camera;
-    std::vector<Transform> m_world_to_object;
-    std::vector<uint8_t> m_thin_walled;  // per mesh
 };
 
 }  // namespace veach

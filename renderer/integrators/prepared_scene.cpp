@@ -1,0 +1,72 @@
+#include "integrators/prepared_scene.h"
+
+#include <cstring>
+
+#include "scene/mesh_topology.h"
+
+namespace veach {
+
+namespace {
+
+bool same_bounds(const Bounds3& a, const Bounds3& b) {
+    return std::memcmp(&a, &b, sizeof(Bounds3)) == 0;
+}
+
+}  // namespace
+
+PreparedScene::PreparedScene(const Scene& scene)
+    : m_scene(scene), m_bounds(scene.bounds()), m_accel(std::make_unique<Accel>(scene)) {
+    m_lights = std::make_unique<LightSet>(scene, *m_accel);
+    m_light_builds = 1;
+    m_world_to_object.reserve(scene.instances.size());
+    for (const Instance& inst : scene.instances) m_world_to_object.push_back(inverse(inst.object_to_world));
+    m_thin_walled.resize(scene.meshes.size(), 0);
+    for (size_t i = 0; i < scene.meshes.size(); ++i) set_thin_walled(i);
+}
+
+void PreparedScene::set_thin_walled(size_t mesh) {
+    const Material& m = m_scene.material_of(m_scene.meshes[mesh]);
+    if (m.transmission > 0.0f || m.transmission_texture.valid())
+        m_thin_walled[mesh] = is_closed_mesh(m_scene.meshes[mesh]) ? 0 : 1;
+}
+
+bool PreparedScene::update(const SceneChanges& changes) {
+    if (!changes.any()) return true;
+    if (!m_accel->update(changes)) return false;
+    for (uint32_t i : changes.moved_instances) m_world_to_object[i] = inverse(m_scene.instances[i].object_to_world);
+    for (uint32_t m : changes.deformed_meshes) set_thin_walled(m);
+    const Bounds3 bounds = m_scene.bounds();
+    bool relight = changes.lights_changed || !same_bounds(bounds, m_bounds);
+    m_bounds = bounds;
+    // Emissive triangles are lights: one that moved or deformed changes the tables.
+    auto emits = [&](uint32_t mesh) { return m_scene.material_of(m_scene.meshes[mesh]).is_emissive(); };
+    for (uint32_t i : changes.moved_instances) relight = relight || emits(m_scene.instances[i].mesh);
+    for (uint32_t m : changes.deformed_meshes) relight = relight || emits(m);
+    if (relight) {
+        m_lights = std::make_unique<LightSet>(m_scene, *m_accel);
+        ++m_light_builds;
+    }
+    return true;
+}
+
+std::shared_ptr<const PreparedScene> PreparedSceneCache::get(const Scene& scene) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (m_prepared && &m_prepared->scene() != &scene) m_prepared.reset();
+    try {
+        if (m_prepared && !m_prepared->update(m_pending)) m_prepared.reset();
+    } catch (...) {
+        m_prepared.reset();  // half updated: never used again
+        m_pending = {};
+        throw;
+    }
+    m_pending = {};
+    if (!m_prepared) m_prepared = std::make_shared<PreparedScene>(scene);
+    return m_prepared;
+}
+
+void PreparedSceneCache::note(const SceneChanges& changes) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_pending.merge(changes);
+}
+
+}  // namespace veach
