@@ -484,7 +484,7 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
         count > 1 ? "[" + std::to_string(index) + "/" + std::to_string(count) + "] " + input + " " : std::string();
     if (!animated) return render_frame(device, cmd, input, scene.h, t, t0, nullptr, label);
     // A sequence from this one load: each later frame poses the loaded scene again (the file is
-    // not read again; each frame's render builds its BVH and light tables from the posed scene).
+    // not read again; the scene keeps its BVH and light tables and updates what moved).
     int worst = k_ok;
     for (size_t k = 0; k < frames.size(); ++k) {
         if (k > 0) {

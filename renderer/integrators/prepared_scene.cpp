@@ -1,5 +1,6 @@
 #include "integrators/prepared_scene.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "scene/mesh_topology.h"
@@ -14,8 +15,21 @@ bool same_bounds(const Bounds3& a, const Bounds3& b) {
 
 }  // namespace
 
+Bounds3 PreparedScene::instance_bounds(size_t instance) const {
+    const Instance& inst = m_scene.instances[instance];
+    const Mesh& mesh = m_scene.meshes[inst.mesh];
+    Bounds3 b;
+    for (uint32_t i : mesh.indices)
+        if (i < mesh.positions.size() && is_finite(mesh.positions[i]))
+            b.extend(inst.object_to_world.point(mesh.positions[i]));
+    return b;
+}
+
 PreparedScene::PreparedScene(const Scene& scene)
-    : m_scene(scene), m_bounds(scene.bounds()), m_accel(std::make_unique<Accel>(scene)) {
+    : m_scene(scene), m_accel(std::make_unique<Accel>(scene)) {
+    m_instance_bounds.reserve(scene.instances.size());
+    for (size_t i = 0; i < scene.instances.size(); ++i) m_instance_bounds.push_back(instance_bounds(i));
+    for (const Bounds3& b : m_instance_bounds) m_bounds.extend(b);
     m_lights = std::make_unique<LightSet>(scene, *m_accel);
     m_light_builds = 1;
     m_world_to_object.reserve(scene.instances.size());
@@ -35,7 +49,14 @@ bool PreparedScene::update(const SceneChanges& changes) {
     if (!m_accel->update(changes)) return false;
     for (uint32_t i : changes.moved_instances) m_world_to_object[i] = inverse(m_scene.instances[i].object_to_world);
     for (uint32_t m : changes.deformed_meshes) set_thin_walled(m);
-    const Bounds3 bounds = m_scene.bounds();
+    for (uint32_t i : changes.moved_instances) m_instance_bounds[i] = instance_bounds(i);
+    if (!changes.deformed_meshes.empty())
+        for (size_t i = 0; i < m_scene.instances.size(); ++i)
+            if (std::binary_search(changes.deformed_meshes.begin(), changes.deformed_meshes.end(),
+                                   m_scene.instances[i].mesh))
+                m_instance_bounds[i] = instance_bounds(i);
+    Bounds3 bounds;
+    for (const Bounds3& b : m_instance_bounds) bounds.extend(b);
     bool relight = changes.lights_changed || !same_bounds(bounds, m_bounds);
     m_bounds = bounds;
     // Emissive triangles are lights: one that moved or deformed changes the tables.

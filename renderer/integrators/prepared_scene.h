@@ -39,8 +39,12 @@ public:
 
 private:
     void set_thin_walled(size_t mesh);
+    Bounds3 instance_bounds(size_t instance) const;
 
     const Scene& m_scene;
+    // Per instance, then their union: what Scene::bounds() computes (min and max are exact in
+    // any grouping), kept so that a frame recomputes only the instances that moved.
+    std::vector<Bounds3> m_instance_bounds;
     Bounds3 m_bounds;
     std::unique_ptr<Accel> m_accel;
     std::unique_ptr<LightSet> m_lights;
