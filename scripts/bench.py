@@ -12,7 +12,10 @@ Time against error, measured side by side in one run on this machine:
   - 2 threads against 1 thread (samples/s, pt, cornell);
   - farm parts' overhead: 16 parts of 64 spp merged against one 1024-spp render (CPU time), part
     file bytes per pixel, and the merge time of 16 parts of a 1920x1080 frame (--only-parts runs
-    this alone).
+    this alone);
+  - animation (scripts/bench_animation.py): a 120-frame sequence of ~1M static triangles and one
+    moving cube against a still, and a 10,000-instance EXT_mesh_gpu_instancing forest's peak
+    memory against one tree (--only-animation runs these alone; --frames N for fewer frames).
 Writes the tables into the markdown file between the BENCH markers and log-log plots of relMSE
 against time next to it (docs/bench/NAME.png, with gnuplot). Ratios are the headline numbers:
 absolute seconds depend on the machine and its load."""
@@ -32,6 +35,8 @@ ap.add_argument("--integrators", default="pt,bdpt")
 ap.add_argument("--no-cycles", action="store_true")
 ap.add_argument("--markdown", default=os.path.join(ROOT, "docs", "BENCHMARKS.md"))
 ap.add_argument("--only-parts", action="store_true", help="only the farm parts' overhead section")
+ap.add_argument("--only-animation", action="store_true", help="only the animation sections (sequence, forest)")
+ap.add_argument("--frames", type=int, default=120, help="frames of the animation sequence benchmark")
 args = ap.parse_args()
 budgets = [float(b) for b in args.budgets.split(",")]
 veach = os.path.join(args.build, "veach")
@@ -155,6 +160,22 @@ def write_section(begin, end, table):
             text = text[: text.index(begin) + len(begin)] + "\n" + table + "\n" + text[text.index(end):]
             open(args.markdown, "w").write(text)
 
+
+# Animation (scripts/bench_animation.py): a sequence's seconds per frame against a still, and an
+# EXT_mesh_gpu_instancing forest's memory against one tree.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_animation  # noqa: E402
+
+if args.only_animation or not args.only_parts:
+    sequence_table = bench_animation.sequence_benchmark(veach, args.build, frames=args.frames)
+    print(sequence_table)
+    write_section("<!-- SEQUENCE:BEGIN -->", "<!-- SEQUENCE:END -->", sequence_table)
+    forest_table = bench_animation.forest_benchmark(veach, args.build)
+    print(forest_table)
+    write_section("<!-- FOREST:BEGIN -->", "<!-- FOREST:END -->", forest_table)
+    if args.only_animation:
+        shutil.rmtree(tmp, ignore_errors=True)
+        sys.exit(0)
 
 parts_table = parts_overhead()
 print(parts_table)
