@@ -67,6 +67,10 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --filter NAME           pixel filter: box (default), gaussian or blackman-harris (Blender's
                           default); light-tracing splats use the same filter
   --filter-width PIXELS   filter width as Blender's (default 1 for box, 1.5 otherwise)
+  --transparent           Cycles' Film > Transparent: camera rays that escape see no
+                          environment (which still lights the scene) and alpha is the pixel's
+                          fraction of camera samples that hit geometry (EXR, PNG, TIFF keep it;
+                          not with --samples or --pixelbounds)
   --half                  EXR with half floats
   --exr-codec NAME        EXR compression: none, rle, zips, zip (default), piz, pxr24, b44,
                           b44a, dwaa, dwab (zip:N, dwaa:N set a level)
@@ -331,6 +335,8 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             render_opt(float_option("gamma", parse_number(a, value(), 0.01, 100)));
         else if (a == "--half")
             render_opt(int_option("half", 1));
+        else if (a == "--transparent")
+            render_opt(int_option("transparent", 1));
         else if (a == "--filter") {
             const std::string& v = value();
             render_opt(string_option("filter", v),

@@ -62,6 +62,11 @@ bool parse_farm_render_option(const std::vector<std::string>& args, size_t& i, R
 
 void check_farm_render_options(const RenderCommand& cmd) {
     const ApiOption* begin = find_option(cmd.render_options, "sample_begin");
+    const ApiOption* bounds = find_option(cmd.render_options, "pixelbounds");
+    const ApiOption* transparent = find_option(cmd.render_options, "transparent");
+    // Part files hold no coverage: merged, a transparent render would come back opaque.
+    if ((begin || bounds) && transparent && transparent->i != 0)
+        throw UsageError("--transparent cannot be rendered in parts (--samples, --pixelbounds): part files hold no alpha");
     if (!begin) return;
     const ApiOption* end = find_option(cmd.render_options, "sample_end");
     const ApiOption* spp = find_option(cmd.render_options, "spp");

@@ -20,58 +20,10 @@ import shutil
 import sys
 import tempfile
 
-import numpy as np
-import OpenImageIO as oiio
-
 from blender_harness import failed, find_blender, install_addon, run_blender
 
 MEAN_TOLERANCE = 0.02
 BLOCK_TOLERANCE = 0.05
-
-
-def alpha(path):
-    """The alpha channel of an EXR (H x W), or None when it has none."""
-    image = oiio.ImageBuf(path)
-    names = list(image.spec().channelnames)
-    if "A" not in names:
-        return None
-    return np.asarray(image.get_pixels(oiio.FLOAT))[..., names.index("A")].astype(np.float64)
-
-
-def interior(mask):
-    """The pixels of mask whose 8 neighbours are in mask too (edges left out: partly covered)."""
-    padded = np.pad(mask, 1, constant_values=False)
-    h, w = mask.shape
-    return np.all([padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
-
-
-def check_alpha(name, ours_path, reference_path, image_compare):
-    """A transparent film's alpha against Cycles': the background (where Cycles' alpha is 0, edges
-    aside) exactly (0, 0, 0, 0), covered pixels alpha 1, the mean alpha within MEAN_TOLERANCE and
-    16x16 block means of alpha within BLOCK_TOLERANCE. Returns the failures."""
-    reference, ours = alpha(reference_path), alpha(ours_path)
-    if reference is None or reference.min() >= 1.0:
-        return []  # an opaque film: alpha 1, nothing to compare
-    if ours is None:
-        return [f"{name}: the add-on's image has no alpha channel"]
-    rgb = image_compare.load(ours_path)
-    background, covered = interior(reference == 0.0), interior(reference == 1.0)
-    problems = []
-    leaks = np.count_nonzero((rgb[background] != 0.0).any(axis=-1) | (ours[background] != 0.0))
-    opaque = np.count_nonzero(ours[covered] != 1.0)
-    mean = ours.mean() / reference.mean()
-    blocks_ours, blocks_ref = (image_compare.block_means(a[..., None])[..., 0] for a in (ours, reference))
-    lit = blocks_ref > 0.05 * blocks_ref.mean()
-    blocks = float(np.max(np.abs(blocks_ours[lit] - blocks_ref[lit]) / blocks_ref[lit]))
-    print(f"{name} alpha: mean {mean:.4f} of Cycles', blocks {blocks:.4f}; {leaks} of {np.count_nonzero(background)} "
-          f"background pixels not (0, 0, 0, 0), {opaque} of {np.count_nonzero(covered)} covered pixels not alpha 1")
-    if leaks:
-        problems.append(f"{name}: {leaks} background pixels are not (0, 0, 0, 0)")
-    if opaque:
-        problems.append(f"{name}: {opaque} covered pixels do not have alpha 1")
-    if abs(mean - 1.0) > MEAN_TOLERANCE or blocks > BLOCK_TOLERANCE:
-        problems.append(f"{name}: alpha differs from Cycles' (mean ratio {mean:.4f}, blocks {blocks:.4f})")
-    return problems
 
 
 def main():
@@ -112,7 +64,8 @@ def main():
                 failures.append(f"{name}: unexpected warnings {warnings}")
             if not ok:
                 failures.append(f"{name}: differs from Cycles (mean {result['mean']}, blocks {result['blocks']:.4f})")
-            failures += check_alpha(name, out, os.path.join(work, name + ".cycles.exr"), image_compare)
+            failures += image_compare.check_alpha(name, out, os.path.join(work, name + ".cycles.exr"),
+                                                  MEAN_TOLERANCE, BLOCK_TOLERANCE)
         # A render region (Blender's border with Crop) is that part of the full frame: the same
         # pixels, since each pixel's samples depend only on the seed and the pixel.
         name = args.scenes[0]

@@ -9,7 +9,8 @@ What must hold (the promise is exactness, so these comparisons are exact where i
 - The merged image says spp = the samples merged, complete when they are all of --spp.
 - Refusals, exit 2 with one line naming the files: parts of different renders, overlapping
   parts, gaps with --expect-spp, a corrupt part. --samples with --noise or --time, or past --spp,
-  is a usage error (exit 1); pixel bounds outside the image are bad input (exit 2).
+  and --samples or --pixelbounds with --transparent (parts hold no coverage) are usage errors
+  (exit 1); pixel bounds outside the image are bad input (exit 2).
 Exit 0 pass, 1 fail.
 """
 import argparse
@@ -166,8 +167,9 @@ def main():
         check(not os.path.exists(os.path.join(tmp, "x.exr")), "a refused merge wrote its output")
 
         for extra, what in ((["--noise", "0.01"], "--noise"), (["--time", "5"], "--time"),
-                            (["--samples", "0:32"], "past --spp")):
-            samples = [] if what == "past --spp" else ["--samples", "0:4"]
+                            (["--samples", "0:32"], "past --spp"), (["--transparent"], "--transparent"),
+                            (["--pixelbounds", "0,8,0,8", "--transparent"], "--pixelbounds --transparent")):
+            samples = [] if what in ("past --spp", "--pixelbounds --transparent") else ["--samples", "0:4"]
             r = run(veach, "render", scene, "-o", os.path.join(tmp, "y.vpart"), *SIZE, "--spp", str(SPP),
                     *samples, *extra)
             check(r.returncode == 1 and len(r.stderr.strip().splitlines()) == 1,

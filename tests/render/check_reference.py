@@ -6,7 +6,9 @@ Renders SCENES/NAME/NAME.gltf (tests/data/scenes) at the reference's resolution 
 with the Cycles reference beside it (with --frame N, an animated scene's NAME.cycles.NNNN.exr,
 rendered by `veach render --frame N`) in tests/tools/image_compare.py's measures: every channel's
 mean within --mean-tol (relative), every lit 16x16 block mean within --block-tol, no non-finite
-value. Exit 0 pass, 1 fail."""
+value; a reference with alpha (Film > Transparent) also by its alpha (image_compare.check_alpha).
+The reference's json may name arguments the scene needs (veach_args: a World's --env-color).
+Exit 0 pass, 1 fail."""
 import argparse, json, os, subprocess, sys, tempfile
 
 ap = argparse.ArgumentParser()
@@ -45,9 +47,10 @@ with tempfile.TemporaryDirectory() as tmp:
            "--integrator", a.integrator, "--quiet", "--stats-json", os.path.join(tmp, "stats.json")]
     if a.frame is not None:
         cmd += ["--frame", str(a.frame)]
-    cmd += a.extra.split()
+    cmd += meta.get("veach_args", []) + a.extra.split()
     subprocess.run(cmd, check=True)
     res = compare.compare(compare.load(out), compare.load(reference))
+    alpha_problems = compare.check_alpha(a.scene, out, reference, a.mean_tol, a.block_tol)
     stats = json.load(open(os.path.join(tmp, "stats.json")))
 print("%s%s %s %d spp: relmse %.5f mean %s blocks %.4f nonfinite %d (dropped samples %d)" % (
     a.scene, "" if a.frame is None else " frame %d" % a.frame, a.integrator, a.spp, res["relmse"], " ".join("%.4f" % m for m in res["mean"]), res["blocks"],
@@ -58,6 +61,8 @@ for c, m in zip("RGB", res["mean"]):
         print("FAIL: channel %s mean ratio %.4f is off by more than %.3f" % (c, m, a.mean_tol)); ok = False
 if check_blocks and res["blocks"] > a.block_tol:
     print("FAIL: worst 16x16 block differs by %.4f > %.3f" % (res["blocks"], a.block_tol)); ok = False
+for problem in alpha_problems:
+    print("FAIL: " + problem); ok = False
 if res["nonfinite"] or stats["nonfinite_samples"]:
     print("FAIL: non-finite values"); ok = False
 sys.exit(0 if ok else 1)
