@@ -305,6 +305,8 @@ bool output_complete(VeachDevice device, VeachRender options, const std::string&
     const long long end = render_int(options, "sample_end") > 0 ? render_int(options, "sample_end") : spp;
     const bool part_file = path.size() >= 6 && path.compare(path.size() - 6, 6, ".vpart") == 0;
     if (!part_file && value("veach:complete") != "yes") return false;
+    // A part another version made would not merge with this one's.
+    if (part_file && value("Software") != std::string("veach ") + veachGetVersionString()) return false;
     if (value("veach:spp_requested") != std::to_string(spp) || value("veach:spp") != std::to_string(end - begin))
         return false;
     const std::string samples = value("veach:samples").empty() ? "0:" + value("veach:spp") : value("veach:samples");

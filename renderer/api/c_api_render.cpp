@@ -791,6 +791,7 @@ VEACH_API VeachError veachReadImageMetadata(VeachDevice device, const char* path
             if (!full_frame)
                 meta["veach:pixelbounds"] = std::to_string(info.x0) + "," + std::to_string(info.x1) + "," +
                                             std::to_string(info.y0) + "," + std::to_string(info.y1);
+            if (!info.version.empty()) meta["Software"] = "veach " + info.version;
             meta["veach:seed"] = std::to_string(info.seed);
             meta["veach:camera"] = info.camera;
             meta["veach:integrator"] = info.integrator;

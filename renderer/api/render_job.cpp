@@ -162,6 +162,7 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     result.render_seconds = std::chrono::duration<double>(t2 - t1).count();
     PartInfo& info = result.part;
     info.identity = identity;
+    info.version = VEACH_VERSION_STRING;
     info.width = width;
     info.height = height;
     info.aovs = options.film.aovs;
@@ -191,7 +192,9 @@ uint64_t render_settings_hash(const RenderJobOptions& options, const std::string
     HashKey key("veach-render-v2");
     // Only when on, so that every opaque render keeps the identity it had before the option.
     if (r.transparent || options.film.alpha) key.field("transparent", 1);
+    // Another version may sample differently: its checkpoints and parts are another render.
     return key
+        .field("version", VEACH_VERSION_STRING)
         .field("width", width)
         .field("height", height)
         .field("camera", camera_name)

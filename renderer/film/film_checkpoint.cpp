@@ -19,11 +19,14 @@ namespace {
 // Film::state_size() doubles, then a CRC-32 of everything before it (a flipped or overwritten
 // byte is refused, not rendered into an image tagged complete), then the end marker that proves
 // the write completed.
-constexpr char k_magic[8] = {'V', 'E', 'A', 'C', 'H', 'C', 'K', '2'};
+constexpr char k_magic[8] = {'V', 'E', 'A', 'C', 'H', 'C', 'K', '3'};
+// The magic of checkpoints written before the version was recorded: refused, saying so.
+constexpr char k_magic_unversioned[8] = {'V', 'E', 'A', 'C', 'H', 'C', 'K', '2'};
 constexpr char k_end[8] = {'V', 'E', 'A', 'C', 'H', 'E', 'N', 'D'};
 
 struct Header {
     char magic[8];
+    char version[16];  // VEACH_VERSION_STRING of the writer, NUL-padded
     uint32_t width, height;
     uint32_t aovs;
     int32_t spp_done;
@@ -38,6 +41,13 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
     throw CheckpointError(path + ": " + reason);
+}
+
+// A version read from a file, printable on one line whatever its bytes.
+std::string printable(std::string s) {
+    for (char& c : s)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+    return s;
 }
 
 bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
@@ -69,6 +79,8 @@ void check_state(const std::string& path, const Film& film, const std::vector<do
 void write_film_checkpoint(const std::string& path, const Film& film, uint64_t settings_hash, int spp_done) {
     Header h{};
     std::memcpy(h.magic, k_magic, sizeof(k_magic));
+    static_assert(sizeof(VEACH_VERSION_STRING) <= sizeof(h.version), "version string too long");
+    std::memcpy(h.version, VEACH_VERSION_STRING, sizeof(VEACH_VERSION_STRING));
     h.width = static_cast<uint32_t>(film.width());
     h.height = static_cast<uint32_t>(film.height());
     h.aovs = film.wants_aovs() ? 1u : 0u;
@@ -97,8 +109,15 @@ int read_film_checkpoint(const std::string& path, Film& film, uint64_t settings_
     File f(std::fopen(path.c_str(), "rb"));
     if (!f) fail(path, std::string("cannot read checkpoint: ") + std::strerror(errno));
     Header h{};
-    if (std::fread(&h, sizeof(h), 1, f.get()) != 1 || std::memcmp(h.magic, k_magic, sizeof(k_magic)) != 0)
+    const std::string here = std::string("this is veach ") + VEACH_VERSION_STRING + " (delete it to start afresh)";
+    const size_t got = std::fread(&h, 1, sizeof(h), f.get());
+    if (got >= sizeof(h.magic) && std::memcmp(h.magic, k_magic_unversioned, sizeof(h.magic)) == 0)
+        fail(path, "checkpoint was made by a veach that did not record its version, " + here);
+    if (got != sizeof(h) || std::memcmp(h.magic, k_magic, sizeof(k_magic)) != 0)
         fail(path, "not a veach checkpoint (or truncated)");
+    // Another version may sample differently: its samples would not continue this render's.
+    const std::string version(h.version, strnlen(h.version, sizeof(h.version)));
+    if (version != VEACH_VERSION_STRING) fail(path, "checkpoint was made by veach " + printable(version) + ", " + here);
     if (h.width != static_cast<uint32_t>(film.width()) || h.height != static_cast<uint32_t>(film.height()))
         fail(path, "checkpoint is " + std::to_string(h.width) + "x" + std::to_string(h.height) + ", the render " +
                        std::to_string(film.width()) + "x" + std::to_string(film.height()));

@@ -39,6 +39,7 @@ std::string header_text(const PartInfo& p, bool splats) {
     std::ostringstream h;
     h << "veach-part 1\n"
       << "identity " << identity << "\n"
+      << "version " << one_line(p.version) << "\n"
       << "width " << p.width << "\nheight " << p.height << "\n"
       << "aovs " << (p.aovs ? 1 : 0) << "\nsplats " << (splats ? 1 : 0) << "\n"
       << "samples " << p.sample_begin << " " << p.sample_end << "\nspp " << p.spp << "\n"
@@ -141,6 +142,8 @@ PartInfo parse_header(const std::string& path, const std::string& text, bool* sp
     p.camera = get("camera");
     p.integrator = get("integrator");
     p.scene = get("scene");
+    // Optional: parts written before the version was recorded have none.
+    if (auto it = fields.find("version"); it != fields.end()) p.version = it->second;
     return p;
 }
 
@@ -316,6 +319,10 @@ std::string join_paths(const std::vector<std::string>& paths) {
 
 bool overlap(int a0, int a1, int b0, int b1) { return a0 < b1 && b0 < a1; }
 
+std::string made_by(const PartInfo& p) {
+    return p.version.empty() ? "a veach that did not record its version" : "veach " + p.version;
+}
+
 }  // namespace
 
 void write_film_part(const std::string& path, const Film& film, const PartInfo& info) {
@@ -391,6 +398,10 @@ MergedParts merge_film_parts(const std::vector<std::string>& paths, int expect_s
     std::vector<PartInfo> infos;
     for (const std::string& p : paths) infos.push_back(read_film_part_info(p));
     const PartInfo& first = infos[0];
+    for (size_t i = 1; i < infos.size(); ++i)
+        if (infos[i].version != first.version)
+            throw PartError(paths[0] + ", " + paths[i] + ": parts made by two versions of veach (" + made_by(first) +
+                            ", " + made_by(infos[i]) + "): render every part of a frame with one version");
     for (size_t i = 1; i < infos.size(); ++i) {
         const PartInfo& p = infos[i];
         if (p.identity != first.identity || p.width != first.width || p.height != first.height ||
@@ -465,7 +476,8 @@ MergedParts merge_film_parts(const std::vector<std::string>& paths, int expect_s
     for (size_t k : order) {
         LoadedPart part = load_part(paths[k]);
         const PartInfo& p = part.info;
-        if (p.identity != first.identity || p.width != first.width || p.height != first.height || p.aovs != first.aovs)
+        if (p.identity != first.identity || p.version != first.version || p.width != first.width ||
+            p.height != first.height || p.aovs != first.aovs)
             corrupt(paths[k], "changed while merging");
         merged.film->add_pixels(p.x0, p.y0, p.x1, p.y1, part.data.pixels.data(),
                                 part.data.aovs.empty() ? nullptr : part.data.aovs.data());

@@ -7,8 +7,8 @@
 // samples; splats land from many threads in any order, so those agree to summation order). A
 // merge of float images would round every part first.
 //
-// The file: magic "VEACHPRT", a text header (the identity hash, size, sample range, bounds,
-// frame and the settings the image's metadata names), the film's sums for the part's pixels and
+// The file: magic "VEACHPRT", a text header (the identity hash, the version of veach that wrote
+// it, size, sample range, bounds, frame and the settings the image's metadata names), the film's sums for the part's pixels and
 // its splats for the whole frame as doubles (each block of doubles byte-shuffled, then zlib), a
 // CRC-32 of everything before it and an end marker. Written through AtomicFile: never torn.
 #pragma once
@@ -32,6 +32,9 @@ public:
 
 struct PartInfo {
     uint64_t identity = 0;  // every image-shaping setting and the content of every input file
+    // The veach that rendered it ("0.6.0"; empty in parts from before it was recorded): parts of
+    // two versions never merge, since sampling may differ between them.
+    std::string version;
     int width = 0, height = 0;
     bool aovs = false;
     int sample_begin = 0, sample_end = 0;  // sample indices [begin, end) of every pixel in bounds
@@ -68,8 +71,8 @@ struct MergedParts {
     std::vector<std::string> paths;
 };
 
-// Sums the parts. Refuses (PartError, one line naming the files) parts of different renders
-// (identity, size, passes or frame differ), parts overlapping in samples and pixels, a corrupt
+// Sums the parts. Refuses (PartError, one line naming the files) parts made by two versions of
+// veach (naming both), parts of different renders (identity, size, passes or frame differ), parts overlapping in samples and pixels, a corrupt
 // part, and, when expect_spp > 0, parts that do not cover samples [0, expect_spp) of every
 // pixel exactly.
 MergedParts merge_film_parts(const std::vector<std::string>& paths, int expect_spp);

@@ -10,6 +10,10 @@ What must hold:
   parts do not merge (exit 2, one line).
 - A checkpoint of the right length made of NaN bytes, or a real one with one flipped byte, is
   refused with exit 2 and one line, and no image is written.
+- The version of veach is part of the identity: a checkpoint or a part that another version made
+  (here: a real one whose recorded version is rewritten, its CRC made good again, as another
+  build would have written it) is refused with exit 2 and one line naming both versions, and
+  --skip-existing renders such a part again rather than keeping it.
 Exit 0 pass, 1 fail.
 """
 import argparse
@@ -20,6 +24,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import zlib
 
 try:
     import OpenImageIO as oiio
@@ -67,6 +72,49 @@ def make_checkpoint(veach, scene, out):
 def resumed_spp(path):
     spec = oiio.ImageBuf(path).spec()
     return spec.get_string_attribute("veach:resumed_spp")
+
+
+def with_version(data, old, new):
+    """The file's bytes with its recorded version `old` replaced by `new` (same length) and its
+    CRC-32 (of everything before the CRC and the 8-byte end marker) recomputed."""
+    assert len(old) == len(new)
+    body = data[:-12]
+    if body[:8] == b"VEACHCK3":  # checkpoint: a 16-byte NUL-padded field after the magic
+        check(body[8:8 + len(old)] == old, f"the checkpoint does not record version {old}")
+        body = body[:8] + new + body[8 + len(new):]
+    else:  # part file: a "version X" line in the text header
+        line = b"\nversion " + old + b"\n"
+        check(body.count(line) == 1, f"the part file does not record version {old}")
+        body = body.replace(line, b"\nversion " + new + b"\n")
+    return body + zlib.crc32(body).to_bytes(4, sys.byteorder) + data[-8:]
+
+
+def check_versions(veach, scene, out, tmp):
+    version = run(veach, "--version").stdout.split()[-1].encode()
+    # Another version of the same length: every digit moved on by one (0.6.0 -> 1.7.1).
+    other = bytes((c - 48 + 1) % 10 + 48 if 48 <= c <= 57 else c for c in version)
+    checkpoint = make_checkpoint(veach, scene, out)
+    edited = with_version(open(checkpoint, "rb").read(), version, other)
+    open(checkpoint, "wb").write(edited)
+    r = run(veach, "render", scene, "-o", out, *FLAGS, "--spp", "64", "--resume", "-q")
+    one_line_exit2(r, "resume from another version's checkpoint")
+    check(version.decode() in r.stderr and other.decode() in r.stderr,
+          f"resume from another version's checkpoint: both versions should be named ({r.stderr.strip()})")
+    check(not os.path.exists(out), "resume from another version's checkpoint: an image was written")
+    os.remove(checkpoint)
+    parts = [os.path.join(tmp, f"v{i}.vpart") for i in range(2)]
+    for part, samples in zip(parts, ("0:8", "8:16")):
+        r = run(veach, "render", scene, "-o", part, *FLAGS, "--spp", "16", "--samples", samples, "-q")
+        check(r.returncode == 0, f"part {samples}: exit {r.returncode} ({r.stderr.strip()})")
+    edited = with_version(open(parts[1], "rb").read(), version, other)
+    open(parts[1], "wb").write(edited)
+    r = run(veach, "merge", *parts, "-o", os.path.join(tmp, "v.exr"))
+    one_line_exit2(r, "parts of two versions")
+    check(all(s in r.stderr for s in (version.decode(), other.decode(), parts[0], parts[1])),
+          f"parts of two versions: the line should name both files and both versions ({r.stderr.strip()})")
+    r = run(veach, "render", scene, "-o", parts[1], *FLAGS, "--spp", "16", "--samples", "8:16", "--skip-existing")
+    check(r.returncode == 0 and "skipped" not in r.stderr and b"\nversion " + version + b"\n" in open(parts[1], "rb").read(),
+          f"--skip-existing kept another version's part (exit {r.returncode}, {r.stderr.strip()})")
 
 
 def main():
@@ -122,11 +170,13 @@ def main():
         flipped[len(flipped) // 2] ^= 0x08
         nan = bytes([0xFF, 0xF8, 0, 0, 0, 0, 0, 0][::-1]) * (len(good) // 8) + b"\0" * (len(good) % 8)
         for what, content in (("a flipped byte", bytes(flipped)), ("NaN bytes", nan),
-                              ("NaN bytes after a real header", good[:48] + nan[48:])):
+                              ("NaN bytes after a real header", good[:56] + nan[56:])):
             open(checkpoint, "wb").write(content)
             r = run(veach, "render", scene["a"], "-o", out, *FLAGS, "--spp", "64", "--resume", "-q")
             one_line_exit2(r, f"checkpoint with {what}")
             check(not os.path.exists(out), f"checkpoint with {what}: an image was written")
+
+        check_versions(veach, scene["a"], out, tmp)
 
         # Parts: through two paths they merge; from an edited texture they do not.
         parts = {}

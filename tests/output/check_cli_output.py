@@ -60,15 +60,15 @@ def wait_for(predicate, timeout, proc=None):
 
 
 def checkpoint_spp(path):
-    """The spp a checkpoint holds (its header: magic, width, height, aovs, spp), -1 if none."""
+    """The spp a checkpoint holds (its header: magic, version, width, height, aovs, spp), -1 if none."""
     try:
         with open(path, "rb") as f:
-            header = f.read(24)
+            header = f.read(40)
     except OSError:
         return -1
-    if len(header) < 24 or header[:8] != b"VEACHCK2":
+    if len(header) < 40 or header[:8] != b"VEACHCK3":
         return -1
-    return int.from_bytes(header[20:24], sys.byteorder, signed=True)
+    return int.from_bytes(header[36:40], sys.byteorder, signed=True)
 
 
 def interrupted_by(veach, scene, folder, sig):
