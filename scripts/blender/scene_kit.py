@@ -197,6 +197,23 @@ def quad(name, a, b, c, d, material, *, uv=False):
     return mesh(name, [a, b, c, d], [(0, 1, 2, 3)], material, uvs=uvs)
 
 
+def sliced_bar(name, location, height, half_width, slices, material):
+    """An upright square bar (2 half_width wide, standing on location) cut into slices along its
+    height, so that an armature bends it smoothly at its joints."""
+    vertices, faces = [], []
+    for k in range(slices + 1):
+        z = height * k / slices
+        vertices += [(x, y, z) for x, y in ((-half_width, -half_width), (half_width, -half_width),
+                                            (half_width, half_width), (-half_width, half_width))]
+    for k in range(slices):
+        a, b = 4 * k, 4 * (k + 1)
+        faces += [(a + i, a + (i + 1) % 4, b + (i + 1) % 4, b + i) for i in range(4)]
+    faces += [(3, 2, 1, 0), (b, b + 1, b + 2, b + 3)]
+    bar = mesh(name, vertices, faces, material)
+    bar.location = location
+    return bar
+
+
 def box(name, center, size, rotation_z_degrees, material, *, uv=False):
     """An axis-aligned unit cube scaled to size (x, y, z), turned about Z, centred at center;
     with uv, each face gets its own UV square."""

@@ -33,17 +33,7 @@ def build():
     kit.keyframes(cube, "rotation_euler", {1: (0.0, 0.0, 0.0), 12: (0.0, 0.0, math.radians(60.0))})
 
     # A bar 1.8 m tall in 12 slices, so that it bends smoothly at the joint.
-    slices, height, half = 12, 1.8, 0.17
-    vertices, faces = [], []
-    for k in range(slices + 1):
-        z = height * k / slices
-        vertices += [(x, y, z) for x, y in ((-half, -half), (half, -half), (half, half), (-half, half))]
-    for k in range(slices):
-        a, b = 4 * k, 4 * (k + 1)
-        faces += [(a + i, a + (i + 1) % 4, b + (i + 1) % 4, b + i) for i in range(4)]
-    faces += [(3, 2, 1, 0), (b, b + 1, b + 2, b + 3)]
-    bar = kit.mesh("bar", vertices, faces, blue)
-    bar.location = (0.9, 0.6, 0.0)
+    bar = kit.sliced_bar("bar", (0.9, 0.6, 0.0), 1.8, 0.17, 12, blue)
     rig = kit.bone_chain("rig", bar, [(0.9, 0.6, 0.0), (0.9, 0.6, 0.9), (0.9, 0.6, 1.8)])
     kit.keyframes(rig.pose.bones["bone0"], "rotation_euler",
                   {1: (0.0, 0.0, 0.0), 12: (math.radians(-15.0), 0.0, 0.0)})

@@ -31,17 +31,7 @@ def build():
                                                                                roughness=0.25))
     kit.keyframes(box, "rotation_euler", {1: (0.0, 0.0, 0.0), 24: (0.0, 0.0, math.radians(180.0))})
 
-    slices, height, half = 12, 1.8, 0.15
-    vertices, faces = [], []
-    for k in range(slices + 1):
-        z = height * k / slices
-        vertices += [(x, y, z) for x, y in ((-half, -half), (half, -half), (half, half), (-half, half))]
-    for k in range(slices):
-        a, b = 4 * k, 4 * (k + 1)
-        faces += [(a + i, a + (i + 1) % 4, b + (i + 1) % 4, b + i) for i in range(4)]
-    faces += [(3, 2, 1, 0), (b, b + 1, b + 2, b + 3)]
-    bar = kit.mesh("bar", vertices, faces, kit.lambert("purple", (0.35, 0.15, 0.6)))
-    bar.location = (0.6, 1.4, 0.0)
+    bar = kit.sliced_bar("bar", (0.6, 1.4, 0.0), 1.8, 0.15, 12, kit.lambert("purple", (0.35, 0.15, 0.6)))
     rig = kit.bone_chain("rig", bar, [(0.6, 1.4, 0.0), (0.6, 1.4, 0.9), (0.6, 1.4, 1.8)])
     kit.keyframes(rig.pose.bones["bone0"], "rotation_euler",
                   {1: (0.0, 0.0, 0.0), 12: (math.radians(-20.0), 0.0, 0.0), 24: (0.0, 0.0, 0.0)})
