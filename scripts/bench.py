@@ -10,9 +10,10 @@ Time against error, measured side by side in one run on this machine:
   - Cycles at equal render time when Blender is installed (the reference settings of
     scripts/blender/cycles_setup.py with a render time limit), and our efficiency over Cycles';
   - 2 threads against 1 thread (samples/s, pt, cornell);
-  - farm parts' overhead: 16 parts of 64 spp merged against one 1024-spp render (CPU time), part
-    file bytes per pixel, and the merge time of 16 parts of a 1920x1080 frame (--only-parts runs
-    this alone);
+  - farm parts' overhead: 16 parts merged against one render of all their samples (CPU time) at
+    128x128 (16 x 64 spp) and 1280x720 (16 x 4 spp, and what that gives for 16 x 64), part file
+    bytes per pixel, and the merge time of 16 parts of a 1920x1080 frame (--only-parts runs this
+    alone);
   - animation (scripts/bench_animation.py): a 120-frame sequence of ~1M static triangles and one
     moving cube against a still, and a 10,000-instance EXT_mesh_gpu_instancing forest's peak
     memory against one tree (--only-animation runs these alone; --frames N for fewer frames).
@@ -99,11 +100,14 @@ def ray_limit(scene):
     return json.loads(p.stdout)["rays_per_second"]
 
 
-# Farm parts' overhead: one frame rendered as 16 parts of 64 spp and merged, against one 1024-spp
-# render of the same frame on the same machine (CPU time of the child processes, user + sys: the
-# parts pay scene load, BVH build and part writing 16 times); the part file's size per pixel; and
-# the merge of 16 parts of a 1920x1080 frame (parts of 1 spp at depth 2, since only their size
-# matters to the merge).
+# Farm parts' overhead: one frame rendered as 16 parts and merged, against one render of all
+# their samples on the same machine (CPU time of the child processes, user + sys: every part pays
+# process start, scene load, BVH build, its film and its part file once). Measured at two sizes:
+# the issue's 16 x 64 spp at 128x128, where the fixed cost per part dominates, and 16 x 4 spp at
+# 1280x720, whose measured fixed cost per part and cost per sample give the ratio for 16 x 64 spp
+# at 1280x720 (that render itself would take ~20 CPU minutes) and the samples per part from which
+# the parts cost at most 5% more. Then the part file's size per pixel and the merge of 16 parts
+# of a 1920x1080 frame (parts of 1 spp at depth 2, since only their size matters to the merge).
 def cpu_seconds(cmds):
     before = os.times()
     for c in cmds:
@@ -112,24 +116,44 @@ def cpu_seconds(cmds):
     return (after.children_user - before.children_user) + (after.children_system - before.children_system)
 
 
+def split_frame(scene, size, spp, parts, tag):
+    """CPU seconds of one `spp` render, of `parts` sample-range parts, and of their merge."""
+    single = cpu_seconds([[veach, "render", scene, "-o", os.path.join(tmp, tag + ".exr"), "--spp", str(spp), *size]])
+    chunk = spp // parts
+    files = [os.path.join(tmp, "%s%02d.vpart" % (tag, c)) for c in range(parts)]
+    split = cpu_seconds([[veach, "render", scene, "-o", files[c], "--spp", str(spp), "--samples",
+                          "%d:%d" % (chunk * c, chunk * (c + 1)), *size] for c in range(parts)])
+    merge = cpu_seconds([[veach, "merge", *files, "--expect-spp", str(spp), "-o", os.path.join(tmp, tag + "_m.exr"),
+                          "--quiet"]])
+    return single, split, merge, files
+
+
 def parts_overhead():
     import time
     scene = os.path.join(SCENES, "cornell", "cornell.gltf")
-    size = ["--width", "128", "--height", "128", "--integrator", "pt", "--threads", "1", "--quiet"]
-    single = cpu_seconds([[veach, "render", scene, "-o", os.path.join(tmp, "single.exr"), "--spp", "1024", *size]])
-    parts = [os.path.join(tmp, "p%02d.vpart" % c) for c in range(16)]
-    split = cpu_seconds([[veach, "render", scene, "-o", parts[c], "--spp", "1024", "--samples",
-                          "%d:%d" % (64 * c, 64 * (c + 1)), *size] for c in range(16)])
-    split += cpu_seconds([[veach, "merge", *parts, "--expect-spp", "1024", "-o", os.path.join(tmp, "merged.exr"),
-                           "--quiet"]])
+    common = ["--integrator", "pt", "--threads", "1", "--quiet"]
+    start = min(cpu_seconds([[veach, "--version"]]) for _ in range(3))
+    single, split, merge, parts = split_frame(scene, ["--width", "128", "--height", "128", *common], 1024, 16, "p")
     small = sum(os.path.getsize(p) for p in parts) / 16 / (128 * 128)
+    hd_size = ["--width", "1280", "--height", "720", *common]
+    hd_single, hd_split, hd_merge, hd_parts = split_frame(scene, hd_size, 64, 16, "q")
+    per_spp = (hd_single - start) / 64  # the samples' cost (an upper bound: the film and image are in it)
+    fixed = (hd_split - hd_single) / 16  # what each part costs beyond its samples
+    # A single render of n spp costs hd_single + (n - 64) per_spp; its 16 parts 16 fixed + merge more.
+    def single_of(n):
+        return hd_single + (n - 64) * per_spp
+    at_64 = (single_of(1024) + 16 * fixed + hd_merge) / single_of(1024)
+    # 16 parts of n spp cost at most 5% more when 16 fixed + merge <= 0.05 single_of(16 n).
+    threshold = ((16 * fixed + hd_merge) / 0.05 - hd_single + 64 * per_spp) / (16 * per_spp)
+    hd_bytes = sum(os.path.getsize(p) for p in hd_parts) / 16 / (1280 * 720)
     big = [os.path.join(tmp, "hd%02d.vpart" % c) for c in range(16)]
     for c in range(16):
         run([veach, "render", scene, "-o", big[c], "--width", "1920", "--height", "1080", "--spp", "16",
              "--samples", "%d:%d" % (c, c + 1), "--integrator", "pt", "--max-depth", "2", "--quiet"])
     hd = sum(os.path.getsize(p) for p in big) / 16 / (1920 * 1080)
     t0 = time.monotonic()
-    run([veach, "merge", *big, "--expect-spp", "16", "-o", os.path.join(tmp, "hd.exr"), "--quiet"])
+    merge_exr_cpu = cpu_seconds([[veach, "merge", *big, "--expect-spp", "16", "-o", os.path.join(tmp, "hd.exr"),
+                                  "--quiet"]])
     merge_exr = time.monotonic() - t0
     t0 = time.monotonic()
     run([veach, "merge", *big, "--expect-spp", "16", "-o", os.path.join(tmp, "hd.vpart"), "--quiet"])
@@ -141,13 +165,22 @@ def parts_overhead():
     lines = [
         "| measure | value |",
         "|---|---|",
+        "| CPU seconds, process start alone (`veach --version`) | %.3f |" % start,
         "| CPU seconds, one 1024-spp render (cornell 128x128, pt, 1 thread) | %.2f |" % single,
-        "| CPU seconds, 16 parts of 64 spp + merge | %.2f |" % split,
-        "| parts / single | %.3f |" % (split / single),
-        "| part file bytes per pixel, 128x128 pt part | %.1f |" % small,
+        "| CPU seconds, 16 parts of 64 spp + merge (128x128) | %.2f |" % (split + merge),
+        "| parts / single, 16 x 64 spp at 128x128 | %.3f |" % ((split + merge) / single),
+        "| CPU seconds, one 64-spp render (cornell 1280x720, pt, 1 thread) | %.2f |" % hd_single,
+        "| CPU seconds, 16 parts of 4 spp + merge (1280x720) | %.2f |" % (hd_split + hd_merge),
+        "| parts / single, 16 x 4 spp at 1280x720 | %.3f |" % ((hd_split + hd_merge) / hd_single),
+        "| fixed CPU seconds per part at 1280x720 (beyond its samples) | %.3f |" % fixed,
+        "| CPU seconds of the merge of 16 parts of 1280x720 | %.2f |" % hd_merge,
+        "| parts / single, 16 x 64 spp at 1280x720 (from the fixed cost and the cost per spp) | %.3f |" % at_64,
+        "| spp per part from which 16 parts cost at most 5%% more (1280x720, pt) | %.1f |" % threshold,
+        "| part file bytes per pixel, 128x128 pt part (64 spp) | %.1f |" % small,
+        "| part file bytes per pixel, 1280x720 pt part (4 spp) | %.1f |" % hd_bytes,
         "| part file bytes per pixel, 1920x1080 pt part (1 spp) | %.1f |" % hd,
         "| part file bytes per pixel, 1920x1080 bdpt part (1 spp; full-frame splats) | %.1f |" % hd_bdpt,
-        "| merge 16 parts of 1920x1080 into an EXR, seconds (wall) | %.2f |" % merge_exr,
+        "| merge 16 parts of 1920x1080 into an EXR, seconds (wall / CPU) | %.2f / %.2f |" % (merge_exr, merge_exr_cpu),
         "| merge 16 parts of 1920x1080 into a .vpart, seconds (wall) | %.2f |" % merge_part,
     ]
     return "\n".join(lines)
