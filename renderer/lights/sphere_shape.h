@@ -1,5 +1,5 @@
-// A sphere that emits outward with uniform radiance: the shape of point and spot lights with a
-// radius. Seen from outside it is sampled by the cone it subtends (uniform in solid angle, pbrt-v3
+// A sphere that emits outward: the shape of point and spot lights with a radius (LightOrigin, at the
+// end, is what the two lights share). Seen from outside it is sampled by the cone it subtends (uniform in solid angle, pbrt-v3
 // section 14.2.3); particles leave a uniform point of its surface in a cosine-weighted direction.
 // A receiver inside the sphere sees nothing of it (it emits outward only).
 #pragma once
@@ -73,6 +73,82 @@ struct SphereShape {
         *p = o + d * t;
         *n = normalize(*p - center);
         return true;
+    }
+};
+
+// Where a point or spot light emits from: its position, or with a radius the SphereShape around
+// it. What the two lights share, sampled one way; each adds only its radiance (the spot's falloff)
+// and the directions its particles leave in.
+struct LightOrigin {
+    Vec3 position;
+    float radius = 0;  // 0: a delta position
+
+    bool delta() const { return !(radius > 0.0f); }
+    SphereShape sphere() const { return {position, radius}; }
+
+    // A point of the light seen from `receiver`: all of `out` but its radiance, which is the
+    // light's intensity (times its falloff along -wi) divided by *divisor: the squared distance
+    // to a delta position (then I / r^2 with pdf = pmf makes the estimator exact), pi r^2 for the
+    // sphere (its radiance).
+    bool sample_direct(const Vec3& receiver, float u1, float u2, float pmf, LightSample* out, float* divisor) const {
+        out->is_infinite = false;
+        if (!delta()) {
+            Vec3 wi, p, n;
+            float pdf;
+            if (!sphere().sample_toward(receiver, u1, u2, &wi, &p, &n, &pdf)) return false;
+            out->wi = wi;
+            out->point = p;
+            out->normal = n;
+            out->distance = length(p - receiver);
+            out->pdf_w = pmf * pdf;
+            out->is_delta = false;
+            *divisor = k_pi * radius * radius;
+            return out->pdf_w > 0.0f;
+        }
+        Vec3 d = position - receiver;
+        float dist2 = length_squared(d);
+        if (!(dist2 > 0.0f)) return false;
+        float dist = std::sqrt(dist2);
+        out->wi = d / dist;
+        out->point = position;
+        out->normal = Vec3();
+        out->distance = dist;
+        out->pdf_w = pmf;
+        out->is_delta = true;
+        *divisor = dist2;
+        return true;
+    }
+
+    // The solid-angle density of sample_direct at `receiver` (pmf included); 0 for a delta.
+    float pdf_direct_w(const Vec3& receiver, float pmf) const {
+        return delta() ? 0.0f : pmf * sphere().pdf_toward(receiver);
+    }
+
+    // A particle's origin: the position, or a uniform point of the sphere with its outward
+    // normal; point, normal, pdf_pos_a and the delta flags of `out`, not its direction.
+    void sample_emission_origin(float u1, float u2, LightEmission* out) const {
+        out->delta_direction = out->infinite = false;
+        if (!delta()) {
+            Vec3 n = sample_uniform_sphere(u1, u2);
+            out->point = position + n * radius;
+            out->normal = n;
+            out->pdf_pos_a = 1.0f / sphere().area();
+            out->delta_position = false;
+            return;
+        }
+        out->normal = Vec3(0, 0, 0);
+        out->point = position;
+        out->pdf_pos_a = 1.0f;
+        out->delta_position = true;
+    }
+
+    float pdf_emission_pos_a() const { return delta() ? 1.0f : 1.0f / sphere().area(); }
+
+    // Whether a ray travelling along `w` that found the sphere at `p` sees its emitting side.
+    bool emits_toward(const Vec3& p, const Vec3& w) const { return !delta() && dot(w, p - position) > 0.0f; }
+
+    bool intersect(const Vec3& o, const Vec3& d, float t_max, LightHit* hit) const {
+        return !delta() && sphere().intersect(o, d, t_max, &hit->t, &hit->p, &hit->n);
     }
 };
 

@@ -20,9 +20,9 @@ struct SpotLight {
     float radius = 0;  // 0: a delta position
 
     float falloff_at(float cos_theta) const;
-    bool delta_position() const { return !(radius > 0.0f); }
+    LightOrigin origin() const { return {position, radius}; }
+    bool delta_position() const { return origin().delta(); }
     bool at_infinity() const { return false; }
-    SphereShape sphere() const { return {position, radius}; }
 
     double power(const LightContext& ctx) const;
     bool sample_direct(const LightContext& ctx, const Vec3& receiver, float u1, float u2, float pmf,
