@@ -1,5 +1,7 @@
 #include "importers/gltf/gltf_materials.h"
 
+#include "textures/texel_codec.h"
+
 #include <algorithm>
 #include <array>
 #include <climits>
@@ -29,7 +31,7 @@
 namespace veach::gltf {
 namespace {
 
-// Decoded textures are float RGBA (16 bytes a texel): 2^28 texels is already 4 GiB.
+// 2^28 texels is 1 GiB as 8-bit RGBA and 4 GiB as float RGBA (OpenImageIO images).
 constexpr uint64_t k_max_texels = 1ull << 28;
 
 template <size_t N>
@@ -373,7 +375,15 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
         tex.name = !image.name.empty() ? image.name : "image " + std::to_string(image_index);
         tex.width = img.width;
         tex.height = img.height;
-        tex.texels = std::move(img.rgba);
+        if (img.eight_bit) {
+            // Back to the bytes the file holds (8-bit WebP, TIFF, ...): a quarter of the floats,
+            // and the same texels stb would have given for a PNG of them.
+            tex.texels8.resize(img.rgba.size());
+            for (size_t i = 0; i < img.rgba.size(); ++i) tex.texels8[i] = encode_unorm8(img.rgba[i]);
+            std::vector<float>().swap(img.rgba);
+        } else {
+            tex.texels = std::move(img.rgba);
+        }
         tex.srgb = space == ColorSpace::Srgb && img.srgb_encoded;
         if (sampler) {
             tex.wrap_s = wrap_mode(sampler->wrapS);
@@ -390,12 +400,14 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
     if (width <= 0 || height <= 0 || texels > k_max_texels)
         throw GltfError(where + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
                         " is out of range");
-    m_context.charge(texels * 4 * sizeof(float), where, Budget::Textures);
+    bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), size) != 0;
+    // The texels are kept at the file's precision (Texture in scene/scene.h): 4 bytes a texel
+    // for 8-bit images, 8 for 16-bit ones.
+    m_context.charge(texels * 4 * (sixteen ? 2 : 1), where, Budget::Textures);
     // stb's own buffers while it decodes, gone when it returns: the image as stored (up to 4
     // channels), the same expanded to RGBA, and for PNG the inflated rows before unfiltering.
     // Charged for the decode and released after, so that a small file declaring a huge image is
     // refused before stb allocates, not after.
-    bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), size) != 0;
     const uint64_t stb_scratch = texels * 4 * (sixteen ? 2 : 1) * 3;
     ScopedCharge scratch(m_context, stb_scratch, where + " (decoding)", Budget::Textures);
 
@@ -416,16 +428,15 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
     tex.height = height;
     // stb_image returns rows top first, which is Texture's layout; glTF's v = 0 is the top row.
     size_t n = static_cast<size_t>(texels) * 4;
-    tex.texels.resize(n);
     // Colour textures keep their sRGB-encoded values: the lookup filters them and decodes the
     // result, as Cycles does with 8-bit images (texture.h explains the choice).
     tex.srgb = space == ColorSpace::Srgb;
     if (sixteen) {
         const uint16_t* p = static_cast<const uint16_t*>(pixels.get());
-        for (size_t i = 0; i < n; ++i) tex.texels[i] = p[i] / 65535.0f;
+        tex.texels16.assign(p, p + n);
     } else {
         const uint8_t* p = static_cast<const uint8_t*>(pixels.get());
-        for (size_t i = 0; i < n; ++i) tex.texels[i] = p[i] / 255.0f;
+        tex.texels8.assign(p, p + n);
     }
 
     if (sampler) {

@@ -65,7 +65,8 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
     const uint64_t film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
     uint64_t mips = 0;
     for (const Texture& t : scene.textures)
-        if (t.mipmaps && !t.nearest) mips += t.texels.size() * sizeof(float) / 3;  // only what can be built
+        if (t.mipmaps && !t.nearest)  // only what can be built: a third of the image, 8-bit levels for 8-bit images
+            mips += (t.texels8.empty() ? t.stored_values() * sizeof(float) : t.texels8.size()) / 3;
     const uint64_t available = available_memory_bytes();
     if (film + mips > available) {
         auto mib = [](uint64_t b) { return std::to_string(b >> 20) + " MiB"; };

@@ -1,6 +1,9 @@
 #include "materials/texture_sampling.h"
 
+#include <array>
 #include <cmath>
+
+#include "textures/texel_codec.h"
 
 namespace veach {
 
@@ -46,19 +49,45 @@ int wrap_index(int i, int n, WrapMode mode) {
     }
 }
 
-// One level of a texture: the image itself or a level of its pyramid, with the sampler's wraps.
+// One level of a texture: the image itself or a level of its pyramid, with the sampler's wraps,
+// in whichever precision it is stored. Integer texels read as the floats k / 255 or k / 65535
+// (by table for bytes), exactly what a float copy would hold; `srgb8` bytes (mip levels of 8-bit
+// colour images) are decoded to linear per texel, as the float levels are linear.
 struct LevelView {
     int width, height;
-    const float* texels;
+    TexelSource texels;
+    bool srgb8;
     WrapMode wrap_s, wrap_t;
 
     Rgba texel(int x, int y) const {
         x = wrap_index(x, width, wrap_s);
         y = wrap_index(y, height, wrap_t);
-        const float* p = &texels[(static_cast<size_t>(y) * width + x) * 4];
+        const size_t i = (static_cast<size_t>(y) * width + x) * 4;
+        if (texels.u8) {
+            const Unorm8Tables& t = unorm8_tables();
+            const uint8_t* p = texels.u8 + i;
+            const std::array<float, 256>& rgb = srgb8 ? t.srgb_linear : t.unorm;
+            return {rgb[p[0]], rgb[p[1]], rgb[p[2]], t.unorm[p[3]]};
+        }
+        if (texels.u16) {
+            const uint16_t* p = texels.u16 + i;
+            return {p[0] / 65535.0f, p[1] / 65535.0f, p[2] / 65535.0f, p[3] / 65535.0f};
+        }
+        const float* p = texels.f32 + i;
         return {p[0], p[1], p[2], p[3]};
     }
 };
+
+TexelSource level0_texels(const Texture& tex) {
+    TexelSource s;
+    if (!tex.texels8.empty())
+        s.u8 = tex.texels8.data();
+    else if (!tex.texels16.empty())
+        s.u16 = tex.texels16.data();
+    else
+        s.f32 = tex.texels.data();
+    return s;
+}
 
 // Texel centres sit at half-integers: texel i covers [i, i+1) / n in texture coordinates, so a
 // level's texels cover exactly the level-0 texels they average.
@@ -80,7 +109,7 @@ Rgba bilinear(const LevelView& l, Vec2 uv, bool nearest) {
 
 // Level 0, decoded to linear after filtering when the texels are sRGB-encoded.
 Rgba level0(const Texture& tex, Vec2 uv) {
-    LevelView l{tex.width, tex.height, tex.texels.data(), tex.wrap_s, tex.wrap_t};
+    LevelView l{tex.width, tex.height, level0_texels(tex), false, tex.wrap_s, tex.wrap_t};
     Rgba c = bilinear(l, uv, tex.nearest);
     if (tex.srgb) {
         c.r = srgb_to_linear(c.r);
@@ -98,17 +127,22 @@ Rgba lerp(const Rgba& a, const Rgba& b, float t) {
 
 Rgba sample_texture(const Texture& tex, Vec2 uv, float footprint) {
     if (tex.width <= 0 || tex.height <= 0 || !std::isfinite(uv.x) || !std::isfinite(uv.y) ||
-        tex.texels.size() < static_cast<size_t>(tex.width) * tex.height * 4)
+        tex.stored_values() < static_cast<size_t>(tex.width) * tex.height * 4)
         return {1, 1, 1, 1};
     float lod = texture_lod(tex, footprint);
     if (!(lod > 0.0f) || tex.nearest || !tex.mipmaps) return level0(tex, uv);
-    const std::vector<MipLevel>& levels = tex.mips.levels(tex.width, tex.height, tex.texels.data(), tex.srgb);
+    const std::vector<MipLevel>& levels = tex.mips.levels(tex.width, tex.height, level0_texels(tex), tex.srgb);
     int coarsest = static_cast<int>(levels.size());  // level n is levels[n - 1]
     if (coarsest == 0) return level0(tex, uv);
     auto at = [&](int k) {
         if (k == 0) return level0(tex, uv);
         const MipLevel& m = levels[static_cast<size_t>(k - 1)];
-        return bilinear(LevelView{m.width, m.height, m.texels.data(), tex.wrap_s, tex.wrap_t}, uv, false);
+        TexelSource src;
+        if (!m.texels8.empty())
+            src.u8 = m.texels8.data();
+        else
+            src.f32 = m.texels.data();
+        return bilinear(LevelView{m.width, m.height, src, m.srgb8, tex.wrap_s, tex.wrap_t}, uv, false);
     };
     if (lod >= static_cast<float>(coarsest)) return at(coarsest);
     int k = static_cast<int>(lod);

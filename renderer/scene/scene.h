@@ -21,10 +21,29 @@ enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 // decoded to linear after filtering: Cycles filters 8-bit sRGB images in the encoded space, and
 // filtering in linear space instead makes every edge of a magnified texture visibly brighter
 // than Blender's render (5-30% on the textured scene). At texel centres both agree exactly.
+//
+// Texels keep the precision of their file: an 8-bit image as bytes (k / 255 when read), a 16-bit
+// one as 16-bit words (k / 65535), a float one as floats; exactly one of the three vectors holds
+// width * height * 4 values, row 0 the top of the image (v = 0). A 4096^2 8-bit texture costs
+// 64 MiB, not the 256 MiB of float RGBA. Lookups read all three the same way (texture_sampling).
 struct Texture {
     std::string name;
     int width = 0, height = 0;
-    std::vector<float> texels;  // width * height * 4, row 0 is the top of the image (v = 0)
+    std::vector<float> texels;       // float images (EXR, HDR, ...) and textures made in code
+    std::vector<uint8_t> texels8;    // 8-bit images (PNG, JPEG: what Blender writes)
+    std::vector<uint16_t> texels16;  // 16-bit images
+    // Values in the one vector that holds them (0 when the texture has no image).
+    size_t stored_values() const { return texels8.size() + texels16.size() + texels.size(); }
+    // Stored value i (of stored_values()) as the float a lookup reads before any decoding.
+    float stored_value(size_t i) const {
+        if (!texels8.empty()) return static_cast<float>(texels8[i]) / 255.0f;
+        if (!texels16.empty()) return static_cast<float>(texels16[i]) / 65535.0f;
+        return texels[i];
+    }
+    // Bytes of the stored texels.
+    size_t stored_bytes() const {
+        return texels8.size() + texels16.size() * sizeof(uint16_t) + texels.size() * sizeof(float);
+    }
     bool srgb = false;          // RGB encoded with the sRGB transfer function; alpha always linear
     WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
     bool nearest = false;  // magnification filter NEAREST; otherwise bilinear

@@ -54,6 +54,7 @@ ImageData read_opened(std::unique_ptr<OIIO::ImageInput> in, const std::string& p
     out.height = h;
     std::string cs = spec.get_string_attribute("oiio:ColorSpace");
     out.srgb_encoded = cs == "sRGB" || (cs.empty() && spec.format.basetype == OIIO::TypeDesc::UINT8);
+    out.eight_bit = spec.format.basetype == OIIO::TypeDesc::UINT8;
     // The colour channels (the first three, or one grey channel) and the alpha channel are read
     // into their places of the RGBA buffer with a 4-float stride: the other channels of a
     // many-channel file (an EXR with AOVs) are never decoded into memory.

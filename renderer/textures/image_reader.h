@@ -19,6 +19,7 @@ struct ImageData {
     int width = 0, height = 0;
     std::vector<float> rgba;    // width * height * 4, row 0 at the top
     bool srgb_encoded = false;  // the file stores sRGB-encoded values (8-bit PNG/JPEG, ...)
+    bool eight_bit = false;     // the file stores 8-bit values: rgba holds k / 255 (to the last bit)
 };
 
 // Called with the header's size once it is known and before any pixel memory is allocated (the

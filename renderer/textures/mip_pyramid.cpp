@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "core/rgb.h"
+#include "textures/texel_codec.h"
 
 namespace veach {
 namespace {
@@ -64,11 +65,12 @@ private:
     std::array<float, 256> m_encoded{}, m_linear{};
 };
 
-// One reduction (w, h) -> (mw, mh). `decode` turns an input texel's RGB into linear (identity
-// for linear inputs). Row by row: each output row filters its few input rows horizontally and
-// sums them with the vertical weights, so the only buffer is one output row.
-template <typename Decode>
-MipLevel reduce(int w, int h, const float* in, Decode decode) {
+// One reduction (w, h) -> (mw, mh) of texels of type T. `decode` turns an input texel's RGB
+// value into linear float, `alpha` its alpha into float. Row by row: each output row filters its
+// few input rows horizontally and sums them with the vertical weights, so the only buffer is one
+// output row (and integer images are never copied to floats in full).
+template <typename T, typename Decode, typename Alpha>
+MipLevel reduce(int w, int h, const T* in, Decode decode, Alpha alpha) {
     MipLevel out;
     out.width = std::max(1, w / 2);
     out.height = std::max(1, h / 2);
@@ -76,13 +78,13 @@ MipLevel reduce(int w, int h, const float* in, Decode decode) {
     if (w % 2 == 0 && h % 2 == 0) {
         // The common case, the plain 2x2 box, without the tap tables (twice as fast on 4K images).
         for (int oy = 0; oy < out.height; ++oy) {
-            const float* r0 = in + static_cast<size_t>(2 * oy) * w * 4;
-            const float* r1 = r0 + static_cast<size_t>(w) * 4;
+            const T* r0 = in + static_cast<size_t>(2 * oy) * w * 4;
+            const T* r1 = r0 + static_cast<size_t>(w) * 4;
             float* dst = &out.texels[static_cast<size_t>(oy) * out.width * 4];
             for (int ox = 0; ox < out.width; ++ox, r0 += 8, r1 += 8, dst += 4) {
                 for (int c = 0; c < 3; ++c)
                     dst[c] = 0.25f * (decode(r0[c]) + decode(r0[4 + c]) + decode(r1[c]) + decode(r1[4 + c]));
-                dst[3] = 0.25f * (r0[3] + r0[7] + r1[3] + r1[7]);
+                dst[3] = 0.25f * (alpha(r0[3]) + alpha(r0[7]) + alpha(r1[3]) + alpha(r1[7]));
             }
         }
         return out;
@@ -93,17 +95,17 @@ MipLevel reduce(int w, int h, const float* in, Decode decode) {
         float* dst = &out.texels[static_cast<size_t>(oy) * out.width * 4];
         const Tap& vy = ty[oy];
         for (int k = 0; k < vy.count; ++k) {
-            const float* src = in + static_cast<size_t>(vy.first + k) * w * 4;
+            const T* src = in + static_cast<size_t>(vy.first + k) * w * 4;
             for (int ox = 0; ox < out.width; ++ox) {
                 const Tap& vx = tx[ox];
                 float acc[4] = {0, 0, 0, 0};
                 for (int j = 0; j < vx.count; ++j) {
-                    const float* p = src + static_cast<size_t>(vx.first + j) * 4;
+                    const T* p = src + static_cast<size_t>(vx.first + j) * 4;
                     float wj = vx.weight[j];
                     acc[0] += wj * decode(p[0]);
                     acc[1] += wj * decode(p[1]);
                     acc[2] += wj * decode(p[2]);
-                    acc[3] += wj * p[3];  // alpha is always linear
+                    acc[3] += wj * alpha(p[3]);  // alpha is always linear
                 }
                 for (int c = 0; c < 4; ++c) row[ox * 4 + c] = acc[c];
             }
@@ -114,22 +116,53 @@ MipLevel reduce(int w, int h, const float* in, Decode decode) {
     return out;
 }
 
+// An 8-bit level from its float version (which the next level is computed from).
+void store_as_bytes(MipLevel& level, bool srgb) {
+    level.texels8.resize(level.texels.size());
+    for (size_t i = 0; i < level.texels.size(); ++i)
+        level.texels8[i] = (srgb && i % 4 != 3) ? encode_srgb8(level.texels[i]) : encode_unorm8(level.texels[i]);
+    level.srgb8 = srgb;
+    std::vector<float>().swap(level.texels);
+}
+
 }  // namespace
 
-std::vector<MipLevel> build_mip_levels(int width, int height, const float* texels, bool srgb) {
+std::vector<MipLevel> build_mip_levels(int width, int height, const TexelSource& texels, bool srgb) {
     std::vector<MipLevel> levels;
-    if (width <= 0 || height <= 0 || !texels || (width == 1 && height == 1)) return levels;
-    if (srgb) {
-        SrgbDecoder decoder;
-        levels.push_back(reduce(width, height, texels, [&](float v) { return decoder(v); }));
+    if (width <= 0 || height <= 0 || texels.empty() || (width == 1 && height == 1)) return levels;
+    auto same = [](float v) { return v; };
+    if (texels.f32) {
+        if (srgb) {
+            SrgbDecoder decoder;
+            levels.push_back(reduce(width, height, texels.f32, [&](float v) { return decoder(v); }, same));
+        } else {
+            levels.push_back(reduce(width, height, texels.f32, same, same));
+        }
+    } else if (texels.u8) {
+        // The floats an image of k / 255 values gives: the same table lookups SrgbDecoder makes.
+        const Unorm8Tables& t = unorm8_tables();
+        auto unorm = [&](uint8_t k) { return t.unorm[k]; };
+        if (srgb)
+            levels.push_back(reduce(width, height, texels.u8, [&](uint8_t k) { return t.srgb_linear[k]; }, unorm));
+        else
+            levels.push_back(reduce(width, height, texels.u8, unorm, unorm));
     } else {
-        levels.push_back(reduce(width, height, texels, [](float v) { return v; }));
+        auto unorm = [](uint16_t k) { return static_cast<float>(k) / 65535.0f; };
+        if (srgb)
+            levels.push_back(reduce(width, height, texels.u16, [&](uint16_t k) { return srgb_to_linear(unorm(k)); }, unorm));
+        else
+            levels.push_back(reduce(width, height, texels.u16, unorm, unorm));
     }
+    // An 8-bit image's levels are computed from the previous level's floats and then stored as
+    // bytes; only the level being reduced is held in float.
+    const bool bytes = texels.u8 != nullptr;
     while (levels.back().width > 1 || levels.back().height > 1) {
         const MipLevel& prev = levels.back();
-        MipLevel next = reduce(prev.width, prev.height, prev.texels.data(), [](float v) { return v; });
+        MipLevel next = reduce(prev.width, prev.height, prev.texels.data(), same, same);
+        if (bytes) store_as_bytes(levels.back(), srgb);
         levels.push_back(std::move(next));
     }
+    if (bytes) store_as_bytes(levels.back(), srgb);
     return levels;
 }
 
@@ -149,7 +182,7 @@ MipCache::MipCache(MipCache&&) noexcept = default;
 MipCache& MipCache::operator=(MipCache&&) noexcept = default;
 MipCache::~MipCache() = default;
 
-const std::vector<MipLevel>& MipCache::levels(int width, int height, const float* texels, bool srgb) const {
+const std::vector<MipLevel>& MipCache::levels(int width, int height, const TexelSource& texels, bool srgb) const {
     static const std::vector<MipLevel> none;  // immutable: safe to share
     if (!m_state) return none;
     std::call_once(m_state->once, [&] {

@@ -482,15 +482,15 @@ TEST(GltfImporter, BaseColorTextureIsDecodedFromSrgbWithSampler) {
     ASSERT_EQ(t.width, 2);
     ASSERT_EQ(t.height, 2);
     // Row 0 is the image's top row: red, then green with alpha 128 (alpha stays linear).
-    EXPECT_FLOAT_EQ(t.texels[0], 1.0f);
-    EXPECT_FLOAT_EQ(t.texels[1], 0.0f);
-    EXPECT_FLOAT_EQ(t.texels[5], 1.0f);
-    EXPECT_FLOAT_EQ(t.texels[7], 128.0f / 255.0f);
+    EXPECT_FLOAT_EQ(t.stored_value(0), 1.0f);
+    EXPECT_FLOAT_EQ(t.stored_value(1), 0.0f);
+    EXPECT_FLOAT_EQ(t.stored_value(5), 1.0f);
+    EXPECT_FLOAT_EQ(t.stored_value(7), 128.0f / 255.0f);
     // Colour textures keep sRGB-encoded values; the lookup decodes exactly at texel centres.
     EXPECT_TRUE(t.srgb);
-    EXPECT_FLOAT_EQ(t.texels[12], 188.0f / 255.0f);  // bottom-right grey
+    EXPECT_FLOAT_EQ(t.stored_value(12), 188.0f / 255.0f);  // bottom-right grey
     EXPECT_NEAR(sample_texture(t, Vec2{0.75f, 0.75f}).r, srgb_to_linear(188.0f / 255.0f), 1e-6f);
-    EXPECT_FLOAT_EQ(t.texels[15], 0.0f);
+    EXPECT_FLOAT_EQ(t.stored_value(15), 0.0f);
     EXPECT_TRUE(t.nearest);
     EXPECT_EQ(t.wrap_s, WrapMode::ClampToEdge);
     EXPECT_EQ(t.wrap_t, WrapMode::MirroredRepeat);
@@ -522,7 +522,7 @@ TEST(GltfImporter, DataTexturesStayLinearAndTexturesAreSharedPerColourSpace) {
     EXPECT_EQ(m.base_color_texture.texture, m.emissive_texture.texture);
     ASSERT_NE(m.base_color_texture.texture, m.metallic_roughness_texture.texture);
     const Texture& linear = s.textures.at(m.metallic_roughness_texture.texture);
-    EXPECT_NEAR(linear.texels[12], 188.0f / 255.0f, 1e-6f);
+    EXPECT_NEAR(linear.stored_value(12), 188.0f / 255.0f, 1e-6f);
     EXPECT_FALSE(s.textures.at(m.normal_texture.texture).nearest);  // texture 1 has no sampler
     EXPECT_FLOAT_EQ(m.normal_scale, 0.5f);
     EXPECT_TRUE(s.features.normal_maps);
@@ -553,7 +553,7 @@ TEST(GltfImporter, SpecularExtension) {
     ASSERT_TRUE(m.specular_color_texture.valid());
     EXPECT_EQ(m.specular_color_texture.texcoord, 1);
     // specularTexture is data (linear), specularColorTexture colour (sRGB).
-    EXPECT_NEAR(s.textures.at(m.specular_texture.texture).texels[12], 188.0f / 255.0f, 1e-6f);
+    EXPECT_NEAR(s.textures.at(m.specular_texture.texture).stored_value(12), 188.0f / 255.0f, 1e-6f);
     EXPECT_TRUE(s.textures.at(m.specular_color_texture.texture).srgb);
     EXPECT_FALSE(s.textures.at(m.specular_texture.texture).srgb);
 }
@@ -623,8 +623,8 @@ TEST(GltfImporter, SixteenBitPngIsNormalizedBy65535) {
     b.doc["images"][0]["uri"] = std::string("data:image/png;base64,") + k_png_16bit_grey;
     Scene s = load(b);
     ASSERT_EQ(s.textures.size(), 1u);
-    EXPECT_FLOAT_EQ(s.textures[0].texels[0], 32768.0f / 65535.0f);  // grey 0x8000
-    EXPECT_FLOAT_EQ(s.textures[0].texels[3], 1.0f);
+    EXPECT_FLOAT_EQ(s.textures[0].stored_value(0), 32768.0f / 65535.0f);  // grey 0x8000
+    EXPECT_FLOAT_EQ(s.textures[0].stored_value(3), 1.0f);
 }
 
 // --------------------------------------------------------------------------------------------
@@ -644,7 +644,8 @@ TEST(GltfImporter, GlbRoundTripMatchesGltf) {
     EXPECT_EQ(from_glb.meshes[0].indices, from_gltf.meshes[0].indices);
     expect_vec3(from_glb.meshes[0].positions[1], 1, 0, 0);
     ASSERT_EQ(from_glb.textures.size(), 1u);
-    EXPECT_EQ(from_glb.textures[0].texels, from_gltf.textures[0].texels);
+    EXPECT_EQ(from_glb.textures[0].texels8, from_gltf.textures[0].texels8);
+    EXPECT_FALSE(from_gltf.textures[0].texels8.empty());
 
     Scene from_memory = import_scene_from_memory(b.glb(), "glb", dir.path().string());
     EXPECT_EQ(from_memory.meshes.size(), 1u);
@@ -921,7 +922,7 @@ TEST(GltfImporterBlender, TexturedCheckerKeepsImageRowOrder) {
     ASSERT_EQ(t.height, 64);
     // checker.png has a red marker in its bottom-left 8x8 block, i.e. the last rows, which is
     // glTF uv (0, 1) (Blender's uv (0, 0)); its top-left texel is yellow.
-    auto texel = [&](int x, int y, int c) { return t.texels[(size_t(y) * t.width + x) * 4 + c]; };
+    auto texel = [&](int x, int y, int c) { return t.stored_value((size_t(y) * t.width + x) * 4 + c); };
     EXPECT_TRUE(t.srgb);
     EXPECT_NEAR(texel(0, 63, 0), 230 / 255.0f, 1e-6f);
     EXPECT_NEAR(texel(0, 63, 1), 26 / 255.0f, 1e-6f);
@@ -955,7 +956,7 @@ TEST(GltfImporterBlender, ConcurrentImportsAgree) {
     for (std::thread& t : threads) t.join();
     for (const Scene& r : results) {
         ASSERT_EQ(r.textures.size(), 1u);
-        EXPECT_EQ(r.textures[0].texels, alone.textures[0].texels);
+        EXPECT_EQ(r.textures[0].texels8, alone.textures[0].texels8);
         EXPECT_EQ(r.triangle_count(), alone.triangle_count());
     }
 }

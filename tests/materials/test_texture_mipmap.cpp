@@ -170,5 +170,44 @@ TEST(TextureSampling, OnlyAMinifiedLookupBuildsThePyramid) {
     EXPECT_FALSE(copy.mips.built());
 }
 
+// An 8-bit image kept as bytes reads exactly as the same image kept as floats k / 255 at level 0
+// (the magnified lookup), and within an 8-bit step of it where the pyramid is used, whose levels
+// are stored as bytes too (sRGB-encoded for colour images); it holds a quarter of the bytes.
+TEST(TextureSampling, EightBitTexturesReadAsTheirFloatCopies) {
+    for (bool srgb : {false, true}) {
+        Texture f = random_texture(37, 21, srgb, srgb ? 5 : 6);
+        Texture b;
+        b.width = f.width;
+        b.height = f.height;
+        b.srgb = srgb;
+        for (float v : f.texels) b.texels8.push_back(static_cast<uint8_t>(std::lround(v * 255.0f)));
+        EXPECT_EQ(b.stored_bytes() * 4, f.stored_bytes());
+        Rng rng(11, 3);
+        double worst = 0;
+        for (int i = 0; i < 2000; ++i) {
+            Vec2 uv{rng.next_float() * 3 - 1, rng.next_float() * 3 - 1};
+            Rgba a = sample_texture(f, uv, 0.0f), c = sample_texture(b, uv, 0.0f);
+            ASSERT_EQ(a.r, c.r);
+            ASSERT_EQ(a.g, c.g);
+            ASSERT_EQ(a.b, c.b);
+            ASSERT_EQ(a.a, c.a);
+            float footprint = 0.02f + 0.3f * rng.next_float();  // minified: levels 1 and up
+            Rgba m = sample_texture(f, uv, footprint), n = sample_texture(b, uv, footprint);
+            // Half an 8-bit step in the encoded space is at most 1/510 in linear too (the sRGB
+            // curve's slope is below 1 above 0.04 encoded, and 1/12.92 below).
+            for (float d : {m.r - n.r, m.g - n.g, m.b - n.b, m.a - n.a}) worst = std::max(worst, double(std::fabs(d)));
+        }
+        EXPECT_LE(worst, 1.0 / 255.0) << "srgb " << srgb;
+        EXPECT_GT(worst, 0.0) << "the byte pyramid should round somewhere";
+        const std::vector<MipLevel>& levels = b.mips.levels(b.width, b.height, b.texels8.data(), srgb);
+        ASSERT_FALSE(levels.empty());
+        for (const MipLevel& l : levels) {
+            EXPECT_TRUE(l.texels.empty());
+            EXPECT_EQ(l.texels8.size(), static_cast<size_t>(l.width) * l.height * 4);
+            EXPECT_EQ(l.srgb8, srgb);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace veach
