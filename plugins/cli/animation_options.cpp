@@ -57,7 +57,7 @@ bool parse_animation_option(const std::vector<std::string>& args, size_t& i, Ren
         cmd.animated_seed = true;
         return true;
     }
-    if (a != "--frame" && a != "--frames" && a != "--fps" && a != "--animation") return false;
+    if (a != "--frame" && a != "--frames" && a != "--fps" && a != "--animation" && a != "--shutter") return false;
     if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
     const std::string& v = args[++i];
     if (a == "--frame" || a == "--frames") {
@@ -66,6 +66,17 @@ bool parse_animation_option(const std::vector<std::string>& args, size_t& i, Ren
         cmd.frames = a == "--frame" ? std::vector<long long>{frame_number(a, v)} : parse_range(v);
         cmd.frames_given = true;
         cmd.frames_flag = a;
+    } else if (a == "--shutter") {
+        const std::string usage = "--shutter expects OPEN,CLOSE in frames relative to the frame (e.g. -0.25,0.25), not '" +
+                                  v + "'";
+        size_t comma = v.find(',');
+        if (comma == std::string::npos) throw UsageError(usage);
+        // A shutter longer than Blender's (its motion_blur_shutter goes up to 1000 frames) is a typo.
+        cmd.shutter_open = number("--shutter", v.substr(0, comma), -1000, 1000, false);
+        cmd.shutter_close = number("--shutter", v.substr(comma + 1), -1000, 1000, false);
+        if (cmd.shutter_open > cmd.shutter_close)
+            throw UsageError("--shutter " + v + ": the shutter opens after it closes");
+        cmd.shutter_given = true;
     } else if (a == "--fps") {
         cmd.fps = number(a, v, 0.001, 1e6, false);
         cmd.fps_given = true;
@@ -77,10 +88,11 @@ bool parse_animation_option(const std::vector<std::string>& args, size_t& i, Ren
 }
 
 void check_animation_options(const RenderCommand& cmd) {
-    if (cmd.frames.empty() && (cmd.fps_given || !cmd.animation.empty() || cmd.animated_seed))
+    if (cmd.frames.empty() && (cmd.fps_given || !cmd.animation.empty() || cmd.animated_seed || cmd.shutter_given))
         throw UsageError(std::string(cmd.fps_given              ? "--fps"
                                      : !cmd.animation.empty() ? "--animation"
-                                                              : "--animated-seed") +
+                                     : cmd.animated_seed      ? "--animated-seed"
+                                                              : "--shutter") +
                          " needs --frame or --frames");
     if (cmd.frames.size() > 1) {
         for (const std::string& o : cmd.outputs)
@@ -94,6 +106,13 @@ void check_animation_options(const RenderCommand& cmd) {
 }
 
 double frame_time(const RenderCommand& cmd, long long frame) { return double(frame) / cmd.fps; }
+
+std::string shutter_seconds(const RenderCommand& cmd) {
+    if (!cmd.shutter_given) return "";
+    char v[64];
+    std::snprintf(v, sizeof(v), "%.17g,%.17g", cmd.shutter_open / cmd.fps, cmd.shutter_close / cmd.fps);
+    return v;
+}
 
 std::string with_frame(const std::string& pattern, long long frame) {
     std::string out;

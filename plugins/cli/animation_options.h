@@ -1,5 +1,6 @@
 // The `veach` command's animation flags: --frame N (the scene at glTF time N / fps), --frames
-// A-B[:STEP] (a sequence from one load), --fps F, --animation NAME|INDEX|all, --animated-seed;
+// A-B[:STEP] (a sequence from one load), --fps F, --animation NAME|INDEX|all, --animated-seed,
+// --shutter OPEN,CLOSE (motion blur, in frames);
 // and the frame's part of output patterns ({frame}, Blender's ####). Kept apart from
 // cli_options.cpp as the farm flags are.
 #pragma once
@@ -22,6 +23,9 @@ void check_animation_options(const RenderCommand& cmd);
 
 // The scene option "time" of a frame: frame / fps, in seconds.
 double frame_time(const RenderCommand& cmd, long long frame);
+
+// The scene option "shutter": --shutter's frames in seconds ("OPEN,CLOSE"), "" without it.
+std::string shutter_seconds(const RenderCommand& cmd);
 
 // `pattern` for one frame: {frame} becomes the number, each run of # the number zero-padded to
 // the run's length (Blender's convention: frame 7 in "f_####.exr" is "f_0007.exr").

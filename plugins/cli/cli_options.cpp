@@ -53,6 +53,9 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --fps F                 frames per second for --frame and --frames (default 24, Blender's)
   --animation NAME|INDEX|all  the animation played (default all: every one at once)
   --animated-seed         mix the frame into --seed, so frames do not share one noise pattern
+  --shutter OPEN,CLOSE    motion blur: each camera sample sees the scene at one time between
+                          frame + OPEN and frame + CLOSE, in frames (Blender's shutter 0.5 is
+                          -0.25,0.25); camera, objects and deforming meshes move (default: off)
   --allow-external-files  let URIs point outside the glTF's folder
   --env FILE              environment map: equirectangular (lat-long) HDR/EXR, Blender's mapping
   --env-color R,G,B       a uniform environment of this linear radiance instead

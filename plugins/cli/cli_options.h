@@ -44,6 +44,9 @@ struct RenderCommand {
     bool fps_given = false;
     std::string animation;
     bool animated_seed = false;  // --animated-seed: the seed mixed with each frame
+    // --shutter OPEN,CLOSE: motion blur over [frame + OPEN, frame + CLOSE] in frames (open <= close; equal: no blur).
+    bool shutter_given = false;
+    double shutter_open = 0, shutter_close = 0;
 };
 
 // String queries through the C API's caller-buffer convention ("" when the query fails).

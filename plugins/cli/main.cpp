@@ -467,7 +467,9 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
     if (animated) {
         bool ok = veachSetSceneFloat(scene.h, "time", frame_time(cmd, frames.front())) == VEACH_ERROR_NONE &&
                   (cmd.animation.empty() || veachSetSceneString(scene.h, "animation", cmd.animation.c_str()) ==
-                                                VEACH_ERROR_NONE);
+                                                VEACH_ERROR_NONE) &&
+                  (!cmd.shutter_given ||
+                   veachSetSceneString(scene.h, "shutter", shutter_seconds(cmd).c_str()) == VEACH_ERROR_NONE);
         if (!ok) {
             std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
             return k_bad_input;

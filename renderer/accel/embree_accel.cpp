@@ -264,7 +264,7 @@ bool Accel::update(const SceneChanges& changes) {
 
 Accel::~Accel() = default;
 
-bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* hit) const {
+bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* hit, float time) const {
     if (!traceable(origin, dir, t_max)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -278,7 +278,7 @@ bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* 
     rh.ray.tnear = 0.0f;
     rh.ray.tfar = t_max;
     rh.ray.mask = 0xffffffffu;
-    rh.ray.time = 0.0f;
+    rh.ray.time = time;
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -294,7 +294,7 @@ bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* 
     return true;
 }
 
-bool Accel::occluded(const Vec3& origin, const Vec3& dir, float t_max) const {
+bool Accel::occluded(const Vec3& origin, const Vec3& dir, float t_max, float time) const {
     if (!traceable(origin, dir, t_max)) return true;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -308,7 +308,7 @@ bool Accel::occluded(const Vec3& origin, const Vec3& dir, float t_max) const {
     r.tnear = 0.0f;
     r.tfar = t_max;
     r.mask = 0xffffffffu;
-    r.time = 0.0f;
+    r.time = time;
     r.flags = 0;
     rtcOccluded1(m_impl->top, &ctx, &r);
     return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit

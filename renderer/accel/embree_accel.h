@@ -34,10 +34,12 @@ public:
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
 
-    // Closest hit along origin + t * dir for t in (0, t_max); dir need not be normalised.
-    bool intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* hit) const;
+    // Closest hit along origin + t * dir for t in (0, t_max); dir need not be normalised. `time`
+    // is the camera sample's shutter time in [0, 1] (Embree's ray time): moving geometry is
+    // where it is then; static geometry ignores it.
+    bool intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* hit, float time = 0.0f) const;
     // Any hit in (0, t_max).
-    bool occluded(const Vec3& origin, const Vec3& dir, float t_max) const;
+    bool occluded(const Vec3& origin, const Vec3& dir, float t_max, float time = 0.0f) const;
 
     // Rays Embree cannot take (an origin or direction component past k_max_ray_coordinate or
     // not finite, a NaN t_max) never reach it: it asserts on them and aborts the process.

@@ -54,6 +54,9 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     std::string m_env_color;  // the env_color option as given ("R,G,B"), for reading back
     std::string m_source;     // the file loaded, "" for a scene from memory
     double m_time = 0;        // seconds, the scene's animation evaluated there (m_import.animate)
+    // Motion blur: the shutter in seconds relative to m_time (open < close), and the option as given.
+    double m_shutter_open = 0, m_shutter_close = 0;
+    std::string m_shutter;
     // After the load, a scene imported with a time may be posed again at another (the scene
     // option "time"): never while a render of it runs. Renders count themselves here, under
     // m_mutex, which the re-pose holds throughout.

@@ -50,7 +50,7 @@ const OptionTable k_options{"scene option",
                              "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
                              "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
                             {"env_strength", "env_rotate", "time"},
-                            {"variant", "spot_falloff", "default_material", "env_map", "env_color", "animation",
+                            {"variant", "spot_falloff", "default_material", "env_map", "env_color", "animation", "shutter",
                              "source", "features", "warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
@@ -73,6 +73,23 @@ veach::Rgb parse_color(const std::string& v) {
         p = end + 1;
     }
     return veach::Rgb(c[0], c[1], c[2]);
+}
+
+// "OPEN,CLOSE": two finite numbers of seconds, open <= close (equal: no motion blur).
+void parse_shutter(const std::string& v, double* open, double* close) {
+    double x[2];
+    const char* p = v.c_str();
+    for (int k = 0; k < 2; ++k) {
+        char* end = nullptr;
+        x[k] = std::strtod(p, &end);
+        if (end == p || !std::isfinite(x[k]) || std::abs(x[k]) > 1e9 || *end != (k == 0 ? ',' : '\0'))
+            throw invalid("scene option 'shutter' expects OPEN,CLOSE in seconds relative to 'time' (e.g. "
+                          "-0.0104,0.0104), not '" + v + "'");
+        p = end + 1;
+    }
+    if (x[0] > x[1]) throw invalid("scene option 'shutter': it opens after it closes ('" + v + "')");
+    *open = x[0];
+    *close = x[1];
 }
 
 const char* spot_name(veach::SpotProfile p) {
@@ -118,6 +135,9 @@ uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash, uint
         .field("env_rotate", env.rotate_degrees);
     // Only a posed scene names its time: an unanimated one keeps the identity it always had.
     if (s.m_import.animate) key.field("time", s.m_time).field("animation", s.m_import.animation);
+    // Likewise only a motion-blurred scene names its shutter.
+    if (s.m_shutter_close > s.m_shutter_open)
+        key.field("shutter_open", s.m_shutter_open).field("shutter_close", s.m_shutter_close);
     key.field("env_map_content", map);
     return key.value();
 }
@@ -132,6 +152,7 @@ void finish_load(VeachSceneImpl* s, veach::Scene&& scene, uint64_t content_hash)
         throw ApiError{VEACH_ERROR_BAD_INPUT, e.what()};  // "FILE: fault": an unreadable map
     }
     veach::pose_scene(scene, s->m_time);  // a scene imported without animation stays as it is
+    veach::capture_motion(scene, s->m_time, s->m_shutter_open, s->m_shutter_close);
     veach::light_unlit_scene(scene);
     veach::rebase_scene(scene);
     s->m_scene = std::move(scene);
@@ -146,6 +167,11 @@ VeachError load(VeachScene scene, const char* function, Load&& body) {
     check_scene(scene, function);
     std::lock_guard<std::mutex> lock(scene->m_mutex);
     check_not_loaded(scene, function);
+    // Before the import spends its time.
+    if (scene->m_shutter_close > scene->m_shutter_open && !scene->m_import.animate)
+        throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                       std::string(function) + ": scene option 'shutter' needs 'time' (motion blur is the animation "
+                                               "across the shutter)"};
     body();
     return VEACH_ERROR_NONE;
 }
@@ -278,6 +304,7 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
             try {
                 const veach::ScenePose before = veach::capture_pose(scene->m_scene);
                 veach::pose_scene(scene->m_scene, value);
+                veach::capture_motion(scene->m_scene, value, scene->m_shutter_open, scene->m_shutter_close);
                 veach::rebase_scene(scene->m_scene);
                 scene->m_prepared.note(veach::changes_since(before, scene->m_scene));
                 scene->m_content_hash = scene_options_hash(*scene, scene->m_file_hash, scene->m_env_map_hash);
@@ -348,6 +375,12 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
             scene->m_env_color = v;
         } else if (n == "animation") {
             scene->m_import.animation = v.empty() ? "all" : v;  // checked against the file by the load
+        } else if (n == "shutter") {
+            double open = 0, close = 0;
+            if (!v.empty()) parse_shutter(v, &open, &close);
+            scene->m_shutter_open = open;
+            scene->m_shutter_close = close;
+            scene->m_shutter = v;
         }
         return VEACH_ERROR_NONE;
     });
@@ -433,6 +466,8 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
             value = scene->m_env_color;
         else if (n == "animation")
             value = scene->m_import.animation;
+        else if (n == "shutter")
+            value = scene->m_shutter;
         else {
             check_loaded(scene, "veachGetSceneString");
             if (n == "source")

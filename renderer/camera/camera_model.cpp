@@ -94,6 +94,31 @@ CameraModel::CameraModel(const Camera* camera, const Bounds3& bounds, int width,
     m_pixel_size = 2.0f * m_half_h / static_cast<float>(std::max(1, m_height));
 }
 
+CameraModel CameraModel::interpolate(const CameraModel& a, const CameraModel& b, float s) {
+    // The basis (right, up, -forward) is a proper rotation: right is cross(forward, up).
+    auto rotation = [](const CameraModel& c) {
+        Transform r;
+        const Vec3 cols[3] = {c.m_right, c.m_up, -c.m_forward};
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < 3; ++i) r.m[i][k] = cols[k][i];
+        return quaternion_of_rotation(r);
+    };
+    const std::array<float, 4> qa = rotation(a), qb = rotation(b);
+    float q[4];
+    slerp_quaternion(qa.data(), qb.data(), s, q);
+    const Transform r = rotation_quaternion(q[0], q[1], q[2], q[3]);
+    CameraModel c = a;
+    c.m_origin = a.m_origin + (b.m_origin - a.m_origin) * s;
+    c.m_right = r.vector(Vec3(1, 0, 0));
+    c.m_up = r.vector(Vec3(0, 1, 0));
+    c.m_forward = -r.vector(Vec3(0, 0, 1));
+    c.m_half_w = a.m_half_w + (b.m_half_w - a.m_half_w) * s;
+    c.m_half_h = a.m_half_h + (b.m_half_h - a.m_half_h) * s;
+    c.m_plane_area = 4.0f * c.m_half_w * c.m_half_h;
+    c.m_pixel_size = 2.0f * c.m_half_h / static_cast<float>(std::max(1, c.m_height));
+    return c;
+}
+
 float CameraModel::footprint_width(float t, const Vec3& dir) const {
     if (m_ortho) return m_pixel_size;
     float c = std::max(0.0f, dot(dir, m_forward));

@@ -47,6 +47,11 @@ public:
     float pixel_spread_angle() const { return m_ortho ? 0.0f : m_pixel_size; }
     float footprint_width(float t, const Vec3& dir) const;
 
+    // The camera a fraction s of the way from a to b (two motion steps of one camera: same
+    // projection and film): position and extents linearly, orientation by slerp on the shorter
+    // arc, so a camera turning at a constant rate between the steps is exact.
+    static CameraModel interpolate(const CameraModel& a, const CameraModel& b, float s);
+
     // Default image height for a width: from the camera's aspect ratio (or 16:9).
     static int default_height(const Camera* camera, int width);
 

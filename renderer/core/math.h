@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -139,6 +140,13 @@ Transform inverse(const Transform& t);  // of the affine part; a singular matrix
 Transform translation(const Vec3& t);
 Transform scaling(const Vec3& s);
 Transform rotation_quaternion(float x, float y, float z, float w);
+// Unit quaternions as (x, y, z, w), glTF's order. normalise_quaternion makes q unit length (a
+// zero or non-finite q becomes the identity); slerp_quaternion interpolates on the shorter arc (b
+// negated when the two point apart: q and -q are the same rotation), normalised.
+void normalise_quaternion(float* q);
+void slerp_quaternion(const float* a, const float* b, double s, float* out);
+// The unit quaternion of the rotation in r's 3x3 part (which must be a rotation).
+std::array<float, 4> quaternion_of_rotation(const Transform& r);
 // From a column-major 4x4 array (glTF's matrix layout).
 Transform from_column_major(const double m[16]);
 

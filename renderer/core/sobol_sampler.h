@@ -97,7 +97,8 @@ public:
         : m_rng(Rng::for_sample(seed, pixel, sample_index)),
           m_key(mix64(seed * 0x9e3779b97f4a7c15ull ^ mix64(pixel + 0x2545f4914f6cdd1dull))),
           m_index_reversed(reverse_bits(sample_index)),
-          m_pair(kind == SamplerKind::Sobol ? 0 : k_sobol_pairs) {}
+          m_pair(kind == SamplerKind::Sobol ? 0 : k_sobol_pairs),
+          m_random(kind != SamplerKind::Sobol) {}
 
     // Two stratified values (one dimension pair):
     //   i = owen_scramble(index, s0)                   the pair's shuffled index
@@ -120,6 +121,17 @@ public:
     }
     float next_float() { return next_1d(); }
 
+    // The camera sample's shutter time in [0, 1): a dimension of its own beside the sequence of
+    // pairs, not drawn from it, so every other value of the sample is the same whether or not the
+    // render has a shutter (an image without motion blur is unchanged). Sobol: the pixel's
+    // samples stratify the shutter as they stratify every pair (Owen-scrambled van der Corput,
+    // index shuffled by its own scramble); Random: an independent value.
+    float shutter_time() const {
+        const uint64_t h = mix64(m_key ^ 0x5851f42d4c957f2dull);
+        if (m_random) return to_unit(static_cast<uint32_t>(mix64(h + m_index_reversed) >> 32));
+        return to_unit(reverse_bits(owen_hash_reversed(shuffled_index(h), static_cast<uint32_t>(h >> 32))));
+    }
+
 private:
     static float to_unit(uint32_t v) { return static_cast<float>(v >> 8) * 0x1p-24f; }
     uint64_t pair_hash() { return mix64(m_key + static_cast<uint64_t>(m_pair++) * 0xd1b54a32d192ed03ull); }
@@ -132,6 +144,7 @@ private:
     uint64_t m_key;
     uint32_t m_index_reversed;
     int m_pair;
+    bool m_random;
 };
 
 }  // namespace veach

@@ -11,6 +11,7 @@
 #include "core/rgb.h"
 #include "scene/scene_animation.h"
 #include "scene/scene_features.h"
+#include "scene/scene_motion.h"
 #include "textures/mip_pyramid.h"
 
 namespace veach {
@@ -247,6 +248,8 @@ struct Scene {
     // Nodes, animations, skins and morph targets, when the import was asked for them
     // (ImportOptions::animate); scene_animation.h's pose_scene evaluates them at a time.
     SceneAnimation animation;
+    // What moves during the shutter, for motion blur (scene_motion.h's capture_motion).
+    SceneMotion motion;
 
     // World-space bounds of all instanced triangles (their finite corners).
     Bounds3 bounds() const;

@@ -34,36 +34,6 @@ Interval locate(const std::vector<float>& times, double t) {
     return in;
 }
 
-void normalise_quaternion(float* q) {
-    double n = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
-    if (!(n > 0) || !std::isfinite(n)) {
-        q[0] = q[1] = q[2] = 0;
-        q[3] = 1;
-        return;
-    }
-    for (int i = 0; i < 4; ++i) q[i] = float(q[i] / n);
-}
-
-// Spherical linear interpolation on the shorter arc (q1 negated when the two point apart: q and
-// -q are the same rotation).
-void slerp(const float* a, const float* b_in, double s, float* out) {
-    double b[4] = {b_in[0], b_in[1], b_in[2], b_in[3]};
-    double d = double(a[0]) * b[0] + double(a[1]) * b[1] + double(a[2]) * b[2] + double(a[3]) * b[3];
-    if (d < 0) {
-        d = -d;
-        for (double& c : b) c = -c;
-    }
-    double wa = 1 - s, wb = s;
-    if (d < 0.9995) {
-        double theta = std::acos(std::min(d, 1.0));
-        double sin_theta = std::sin(theta);
-        wa = std::sin((1 - s) * theta) / sin_theta;
-        wb = std::sin(s * theta) / sin_theta;
-    }
-    for (int i = 0; i < 4; ++i) out[i] = float(wa * a[i] + wb * b[i]);
-    normalise_quaternion(out);
-}
-
 struct Mat3 {
     double m[3][3];
 };
@@ -167,7 +137,7 @@ void sample_animation(const AnimationSampler& s, double t, bool rotation, float*
     }
     const float* v1 = &s.values[in.k1 * c];
     if (rotation && c == 4) {
-        slerp(v0, v1, in.s, out);
+        slerp_quaternion(v0, v1, in.s, out);
         return;
     }
     for (int i = 0; i < c; ++i) out[i] = float((1 - in.s) * v0[i] + in.s * v1[i]);

@@ -897,3 +897,25 @@ TEST_F(CApi, SceneTimeAfterTheLoadPosesItAgainWithoutReadingTheFile) {
     EXPECT_REFUSED(veachSetSceneFloat(still, "time", 1.0), VEACH_ERROR_INVALID_OPERATION, "without a time");
     veachReleaseScene(still);
 }
+
+TEST_F(CApi, SceneShutterIsCheckedBeforeTheLoadAndNeedsATime) {
+    VeachScene s = veachNewScene(m_device);
+    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "0.25,-0.25"), VEACH_ERROR_INVALID_ARGUMENT, "opens after");
+    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "nan,0.25"), VEACH_ERROR_INVALID_ARGUMENT, "OPEN,CLOSE");
+    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "0.25"), VEACH_ERROR_INVALID_ARGUMENT, "OPEN,CLOSE");
+    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "0,inf"), VEACH_ERROR_INVALID_ARGUMENT, "OPEN,CLOSE");
+    ASSERT_EQ(veachSetSceneString(s, "shutter", "-0.01,0.01"), VEACH_ERROR_NONE) << veachGetLastError();
+    char value[64];
+    size_t length = 0;
+    ASSERT_EQ(veachGetSceneString(s, "shutter", value, sizeof(value), &length), VEACH_ERROR_NONE);
+    EXPECT_STREQ(value, "-0.01,0.01");
+    // Motion blur is the animation across the shutter: without a time there is none to sample.
+    EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_INVALID_OPERATION, "needs 'time'");
+    veachReleaseScene(s);
+    // With a time it loads; an empty shutter is none.
+    VeachScene t = veachNewScene(m_device);
+    ASSERT_EQ(veachSetSceneFloat(t, "time", 0.0), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetSceneString(t, "shutter", "0,0"), VEACH_ERROR_NONE);
+    EXPECT_EQ(veachLoadSceneFile(t, k_cornell.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    veachReleaseScene(t);
+}

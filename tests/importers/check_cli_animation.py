@@ -13,9 +13,11 @@ pixel boundaries):
 - --animation idle --frame 24: 0.5; --animation 0 --frame 24 (index of "slide"): 0;
 - the frame is part of a render's identity: part files (--samples) of two frames refuse to merge,
   two parts of one frame merge;
+- an empty shutter (--shutter 0,0) renders bit for bit what no --shutter renders;
 - bad values are refused before rendering with one line and no file: --frame abc, --frame 1.5,
-  --fps 0 and --fps without --frame (usage, exit 1); --animation walk (bad input, exit 2, the
-  line lists the file's animations).
+  --fps 0 and --fps without --frame, --shutter opening after it closes, not a number, one value,
+  or without --frame (usage, exit 1); --animation walk (bad input, exit 2, the line lists the
+  file's animations).
 Exit 0 pass, 1 fail.
 """
 import argparse
@@ -97,14 +99,17 @@ def main():
         write_scene(scene)
         common = ["--width", "32", "--height", "32", "--spp", "4", "--integrator", "pt", "--threads", "2", "-q"]
 
-        def render(name, *flags):
+        def render_pixels(name, *flags):
             out = os.path.join(tmp, name + ".exr")
             proc = subprocess.run([args.veach, "render", scene, "-o", out, *common, *flags],
                                   capture_output=True, text=True, timeout=120)
             if not check(proc.returncode == 0, f"{name}: exit {proc.returncode}: {proc.stderr.strip()}"):
                 return None
-            pixels = np.asarray(oiio.ImageBuf(out).get_pixels(oiio.FLOAT))[..., :3]
-            return float(pixels.mean())
+            return np.asarray(oiio.ImageBuf(out).get_pixels(oiio.FLOAT))[..., :3]
+
+        def render(name, *flags):
+            pixels = render_pixels(name, *flags)
+            return None if pixels is None else float(pixels.mean())
 
         cases = [("static", [], 0.5), ("frame0", ["--frame", "0"], 0.5), ("frame12", ["--frame", "12"], 0.25),
                  ("frame24", ["--frame", "24"], 0.0), ("fps12", ["--frame", "6", "--fps", "12"], 0.25),
@@ -116,6 +121,11 @@ def main():
                 ok = check(abs(mean - want) < 1e-4, f"{name} ({' '.join(flags)}): mean {mean:.5f}, expected {want}")
                 if ok:
                     print(f"{name:>8} {' '.join(flags):<28} mean {mean:.5f} (expected {want})")
+
+        plain = render_pixels("plain", "--frame", "7")
+        empty = render_pixels("empty_shutter", "--frame", "7", "--shutter", "0,0")
+        if plain is not None and empty is not None:
+            check(np.array_equal(plain, empty), "--shutter 0,0 changed the image of --frame 7")
 
         def part(name, samples, frame):
             out = os.path.join(tmp, name + ".vpart")
@@ -138,7 +148,11 @@ def main():
 
         refusals = [(["--frame", "abc"], 1, "--frame"), (["--frame", "1.5"], 1, "--frame"),
                     (["--frame", "1", "--fps", "0"], 1, "--fps"), (["--fps", "30"], 1, "--fps needs --frame"),
-                    (["--animation", "walk", "--frame", "1"], 2, "'slide', 'idle'")]
+                    (["--animation", "walk", "--frame", "1"], 2, "'slide', 'idle'"),
+                    (["--frame", "1", "--shutter", "0.25,-0.25"], 1, "opens after it closes"),
+                    (["--frame", "1", "--shutter", "nan,0.25"], 1, "--shutter"),
+                    (["--frame", "1", "--shutter", "0.5"], 1, "--shutter expects OPEN,CLOSE"),
+                    (["--shutter", "-0.25,0.25"], 1, "--shutter needs --frame")]
         for flags, code, needle in refusals:
             out = os.path.join(tmp, "refused.exr")
             proc = subprocess.run([args.veach, "render", scene, "-o", out, *common, *flags],
@@ -151,7 +165,8 @@ def main():
                 print(f"refused {' '.join(flags)}: exit {code}: {lines[0]}")
     if FAILURES:
         sys.exit(1)
-    print("PASS: --frame, --fps and --animation pose the scene; bad values are refused")
+    print("PASS: --frame, --fps and --animation pose the scene, an empty --shutter changes nothing; bad values are "
+          "refused")
 
 
 if __name__ == "__main__":

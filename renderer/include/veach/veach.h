@@ -31,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 6
+#define VEACH_VERSION_MINOR 7
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -150,7 +150,13 @@ VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* dat
  *           unreadable fails the load with VEACH_ERROR_BAD_INPUT), env_color ("R,G,B": a uniform
  *           linear radiance; excludes env_map), animation (with time: "all", the default, plays
  *           every animation at once; else one animation's name or index; one the file lacks fails
- *           the load with VEACH_ERROR_BAD_INPUT, listing the file's)
+ *           the load with VEACH_ERROR_BAD_INPUT, listing the file's), shutter (since 0.7, with
+ *           time: motion blur, "OPEN,CLOSE" in seconds relative to time, e.g. "-0.0104,0.0104" for
+ *           Blender's shutter 0.5 at 24 fps; each camera sample sees the scene at one time in
+ *           [time + OPEN, time + CLOSE]; the camera moves, posed at three times across the shutter
+ *           and interpolated; "" (the default) or OPEN = CLOSE: none; OPEN > CLOSE or a non-finite
+ *           value is VEACH_ERROR_INVALID_ARGUMENT; set without time, the load fails with
+ *           VEACH_ERROR_INVALID_OPERATION; a sequence keeps it for every time)
  * After loading, read-only: int triangles, cameras and what scene repair changed
  * (repaired_invalid_indices, repaired_nonfinite_triangles, repaired_degenerate_triangles,
  * repaired_duplicate_triangles, repaired_normals_replaced, repaired_normals_normalized,

@@ -59,8 +59,9 @@ public:
           m_options(options),
           m_stats(stats) {}
 
-    // Traces one pixel sample; returns the camera-side estimate and splats the light-tracing one.
-    Rgb sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film);
+    // Traces one pixel sample at shutter time `time` (both subpaths, and the camera they join,
+    // at that time); returns the camera-side estimate and splats the light-tracing one.
+    Rgb sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, Film& film);
 
 private:
     int trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng);
@@ -88,7 +89,8 @@ private:
 
     const RenderScene& m_rs;
     const LightSet& m_lights;
-    const CameraModel& m_camera;
+    CameraModel m_camera;  // at the sample's shutter time
+    float m_time = 0.0f;   // the sample's shutter time, every ray's
     const RenderSettings& m_settings;
     const BdptOptions& m_options;
     ThreadStats& m_stats;
@@ -128,7 +130,7 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
     while (count < max_vertices) {
         RayHit rh;
         ++m_stats.rays;
-        bool found = m_rs.accel().intersect(origin, dir, k_infinity, &rh);
+        bool found = m_rs.accel().intersect(origin, dir, k_infinity, &rh, m_time);
         if (mode == TransportMode::Radiance && !m_lights.shape_lights().empty())
             add_shape_lights_crossed(path, count, origin, dir, found ? rh.t : k_infinity, beta, sigma, pdf_w);
         if (!found) {
@@ -296,7 +298,7 @@ bool Tracer::visible(const PathVertex& a, const PathVertex& b) {
     Vec3 dt = target - o;
     float dist = length(dt);
     if (!(dist > 0.0f)) return false;
-    return !m_rs.accel().occluded(o, dt / dist, dist * (1.0f - k_shadow_epsilon));
+    return !m_rs.accel().occluded(o, dt / dist, dist * (1.0f - k_shadow_epsilon), m_time);
 }
 
 // Radiance a surface vertex on an emitter (or the environment vertex) sends toward unit direction w.
@@ -395,7 +397,9 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
     return static_cast<float>(1.0 / (1.0 + sum));
 }
 
-Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) {
+Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, Film& film) {
+    m_camera = m_rs.camera_at(time);
+    m_time = time;
     m_shape_radiance = Rgb(0.0f);
     int n_camera = trace_camera_subpath(ws, fx, fy, rng);
     int n_light = trace_light_subpath(ws, rng);
@@ -515,7 +519,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, Sampler& rng, Film& film) 
                 Vec3 o = offset_ray_origin(z.p, z.p_error, z.ng, ls.wi);
                 float t_max = ls.is_infinite ? k_infinity : length(ls.point - o) * (1.0f - k_shadow_epsilon);
                 ++m_stats.rays;
-                if (m_rs.accel().occluded(o, ls.wi, t_max)) continue;
+                if (m_rs.accel().occluded(o, ls.wi, t_max, m_time)) continue;
                 Rgb c = z.beta * f * ls.radiance / ls.pdf_w;
                 c *= beer_lambert(medium_toward(z, ls.wi), ls.is_infinite ? 0.0f : length(ls.point - z.p));
                 float w = 1.0f;
@@ -572,13 +576,14 @@ void BidirectionalTracer::render_tile(const RenderScene& rs, const Tile& tile, u
             for (uint32_t s = sample_begin; s < sample_end; ++s) {
                 Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
                 auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
+                const float time = rng.shutter_time();  // one for the whole sample, light subpath too
                 const uint64_t rejected = Accel::rejected_rays_on_this_thread();
-                Rgb l = tracer.sample(ws, fx, fy, rng, film);
+                Rgb l = tracer.sample(ws, fx, fy, time, rng, film);
                 if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {
                     ++stats.nonfinite;
                     continue;
                 }
-                add_camera_sample(film, rs, x, y, fx, fy, l);
+                add_camera_sample(film, rs, x, y, fx, fy, time, l);
             }
         }
     }

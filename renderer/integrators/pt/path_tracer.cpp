@@ -14,7 +14,8 @@ namespace {
 constexpr int k_roulette_start = 3;
 }  // namespace
 
-Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng, ThreadStats& stats) const {
+Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, float time, Sampler& rng,
+                      ThreadStats& stats) const {
     const Scene& scene = rs.scene();
     const LightSet& lights = rs.lights();
     Rgb radiance(0.0f);
@@ -27,7 +28,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
     for (int bounce = 0;; ++bounce) {
         RayHit rh;
         ++stats.rays;
-        bool found = rs.accel().intersect(origin, dir, k_infinity, &rh);
+        bool found = rs.accel().intersect(origin, dir, k_infinity, &rh, time);
         // Lights with a shape of their own (area lights, spheres) are not scene geometry: the ray
         // picks up what they send toward it and goes on (they cast no shadow), as in Cycles.
         if (!lights.shape_lights().empty()) {
@@ -57,7 +58,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
         }
         // The camera ray's cone picks texture mip levels; later bounces read full resolution
         // (README, "Textures").
-        SurfaceHit hit = make_surface_hit(rs, rh, bounce == 0 ? rs.camera().footprint_width(rh.t, dir) : 0.0f);
+        SurfaceHit hit = make_surface_hit(rs, rh, bounce == 0 ? rs.camera_at(time).footprint_width(rh.t, dir) : 0.0f);
         beta *= beer_lambert(sigma_a, rh.t * length(dir));  // the segment just travelled
         Vec3 wo = -dir;
 
@@ -95,7 +96,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
                 Vec3 o = offset_ray_origin(hit.p, hit.p_error, hit.ng, ls.wi);
                 float t_max = ls.is_infinite ? k_infinity : length(ls.point - o) * (1.0f - k_shadow_epsilon);
                 ++stats.rays;
-                if (!rs.accel().occluded(o, ls.wi, t_max)) {
+                if (!rs.accel().occluded(o, ls.wi, t_max, time)) {
                     float w = ls.is_delta ? 1.0f : power_heuristic(ls.pdf_w, bsdf.pdf_w(wo, ls.wi));
                     // The shadow segment travels in the medium on its side of this surface (a
                     // light sample through the wall of a glass block leaves the block at once).
@@ -131,22 +132,23 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, Sampler& rng
 
 void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
                              Film& film, ThreadStats& stats) const {
-    const CameraModel& camera = rs.camera();
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
             uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
             for (uint32_t s = sample_begin; s < sample_end; ++s) {
                 Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
                 auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
+                // One shutter time for the whole path: the camera and every ray see the scene then.
+                const float time = rng.shutter_time();
                 Vec3 o, d;
-                camera.generate_ray(fx, fy, &o, &d);
+                rs.camera_at(time).generate_ray(fx, fy, &o, &d);
                 const uint64_t rejected = Accel::rejected_rays_on_this_thread();
-                Rgb l = trace(rs, o, d, rng, stats);
+                Rgb l = trace(rs, o, d, time, rng, stats);
                 if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {
                     ++stats.nonfinite;  // dropped, never written
                     continue;
                 }
-                add_camera_sample(film, rs, x, y, fx, fy, l);
+                add_camera_sample(film, rs, x, y, fx, fy, time, l);
             }
         }
     }

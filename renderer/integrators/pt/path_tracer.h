@@ -15,7 +15,7 @@ public:
                      ThreadStats& stats) const override;
 
     // Radiance arriving at the camera along one ray (exposed for tests).
-    Rgb trace(const RenderScene& rs, Vec3 origin, Vec3 dir, class Sampler& rng, ThreadStats& stats) const;
+    Rgb trace(const RenderScene& rs, Vec3 origin, Vec3 dir, float time, class Sampler& rng, ThreadStats& stats) const;
 
 private:
     RenderSettings m_settings;
