@@ -86,15 +86,20 @@ void TriangleLight::pdf_emission(const LightContext&, const Vec3&, const Vec3& d
     *pdf_dir_w = triangle_dir_pdf(*this, dir);
 }
 
-Rgb TriangleLight::radiance(const LightContext& ctx, const Vec3& p, const Vec3& w) const {
-    if (!textured) return radiance_toward(w, radiance_value);
-    // Barycentrics of p from the two edges (least squares, for points slightly off the plane).
+bool TriangleLight::barycentrics(const Vec3& p, Vec2* b) const {
     Vec3 d = p - p0;
     float a11 = dot(e1, e1), a12 = dot(e1, e2), a22 = dot(e2, e2);
     float r1 = dot(d, e1), r2 = dot(d, e2);
     float det = a11 * a22 - a12 * a12;
-    if (!(std::fabs(det) > 0.0f)) return Rgb(0.0f);
-    Vec2 b{(r1 * a22 - r2 * a12) / det, (r2 * a11 - r1 * a12) / det};
+    if (!(std::fabs(det) > 0.0f)) return false;
+    *b = Vec2{(r1 * a22 - r2 * a12) / det, (r2 * a11 - r1 * a12) / det};
+    return true;
+}
+
+Rgb TriangleLight::radiance(const LightContext& ctx, const Vec3& p, const Vec3& w) const {
+    if (!textured) return radiance_toward(w, radiance_value);
+    Vec2 b;
+    if (!barycentrics(p, &b)) return Rgb(0.0f);
     return radiance_toward(w, emitted_at(ctx, b));
 }
 

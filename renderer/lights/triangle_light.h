@@ -34,6 +34,9 @@ struct TriangleLight {
         if (c > 0.0f || (two_sided && c < 0.0f)) return emitted;
         return Rgb(0.0f);
     }
+    // Barycentrics (of the second and third corners, as a ray hit's u and v) of a point on the
+    // triangle, least squares for points slightly off its plane; false for a degenerate triangle.
+    bool barycentrics(const Vec3& p, Vec2* b) const;
     // Triangles are found by the accelerator, never by this.
     bool intersect(const Vec3&, const Vec3&, float, LightHit*) const { return false; }
 

@@ -72,6 +72,7 @@ private:
                                   float t_max, const Rgb& beta, const Rgb& sigma, float pdf_w);
     bool visible(const PathVertex& a, const PathVertex& b);
     Rgb emitted_toward(const PathVertex& v, const Vec3& w) const;
+    Rgb emission_seen_by_camera(const TriangleLight& tl, const Vec3& p, float distance, const Vec3& dir) const;
     float light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const;
     float light_emission_pdf_area(const PathVertex& light_v, const PathVertex& to) const;
     float mis_weight(const std::vector<PathVertex>& light, int s, const std::vector<PathVertex>& camera, int t,
@@ -311,6 +312,20 @@ Rgb Tracer::emitted_toward(const PathVertex& v, const Vec3& w) const {
     return tl.radiance_toward(w, evaluate_emission(*v.material, m_rs.scene(), v.attr));
 }
 
+// The emissive texture of triangle light `tl` at point p, read with the footprint of the camera
+// ray that would reach p from `distance` along unit `dir`.
+Rgb Tracer::emission_seen_by_camera(const TriangleLight& tl, const Vec3& p, float distance, const Vec3& dir) const {
+    Vec2 b;
+    if (!tl.barycentrics(p, &b)) return Rgb(0.0f);
+    RayHit rh;
+    rh.instance = tl.instance;
+    rh.prim = tl.prim;
+    rh.u = b.x;
+    rh.v = b.y;
+    SurfaceHit hit = make_surface_hit(m_rs, rh, m_camera.footprint_width(distance, dir));
+    return evaluate_emission(*hit.material, m_rs.scene(), hit.attr);
+}
+
 // Area density with which the light sampler produces point v (on a light) as a path origin.
 float Tracer::light_origin_pdf_a(const PathVertex& v, const Vec3& dir_out) const {
     float pdf_pos, pdf_dir;
@@ -479,6 +494,14 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
                     const Light& yl = m_lights.light(static_cast<size_t>(y.light));
                     if (const auto* tl = std::get_if<TriangleLight>(&yl)) {
                         if (tl->radiance_toward(-w, Rgb(1.0f)).is_black()) continue;
+                        // The camera's own ray reads an emissive texture with the pixel's
+                        // footprint (README "Textures"): so does this strategy, for one integrand.
+                        if (tl->textured) {
+                            float pdf_pos, pdf_dir;
+                            m_lights.pdf_emission(static_cast<size_t>(y.light), y.p, -w, &pdf_pos, &pdf_dir);
+                            y_beta = emission_seen_by_camera(*tl, y.p, std::sqrt(dist2), w) /
+                                     (m_lights.selection_pmf(static_cast<size_t>(y.light)) * pdf_pos);
+                        }
                     } else {
                         // Lights whose radiance depends on the direction (spheres of spot lights).
                         float pdf_pos, pdf_dir;
