@@ -5,10 +5,9 @@
 
 namespace veach {
 
-PixelAovs first_hit_aovs(const RenderScene& rs, float fx, float fy, float time) {
+PixelAovs first_hit_aovs(const RenderScene& rs, const CameraModel& camera, float fx, float fy, float time) {
     PixelAovs aovs;
     Vec3 o, d;
-    const CameraModel camera = rs.camera_at(time);
     camera.generate_ray(fx, fy, &o, &d);
     RayHit rh;
     if (!rs.accel().intersect(o, d, k_infinity, &rh, time)) return aovs;

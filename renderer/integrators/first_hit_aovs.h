@@ -10,18 +10,19 @@
 
 namespace veach {
 
-// What the camera ray through film position (fx, fy) at shutter time `time` first hits.
-PixelAovs first_hit_aovs(const RenderScene& rs, float fx, float fy, float time);
+// What the ray of `camera` (the sample's, at shutter time `time`) through film position (fx, fy)
+// first hits.
+PixelAovs first_hit_aovs(const RenderScene& rs, const CameraModel& camera, float fx, float fy, float time);
 
-// Adds a camera sample placed at (fx, fy) and shutter time `time` for pixel (x, y), with its AOVs and coverage (alpha)
-// when the film records them.
-inline void add_camera_sample(Film& film, const RenderScene& rs, int x, int y, float fx, float fy, float time,
-                              const Rgb& radiance) {
+// Adds a camera sample placed at (fx, fy) and shutter time `time` (seen by `camera`) for pixel
+// (x, y), with its AOVs and coverage (alpha) when the film records them.
+inline void add_camera_sample(Film& film, const RenderScene& rs, const CameraModel& camera, int x, int y, float fx,
+                              float fy, float time, const Rgb& radiance) {
     if (!film.wants_first_hit()) {
         film.add_sample(x, y, radiance);
         return;
     }
-    const PixelAovs aovs = first_hit_aovs(rs, fx, fy, time);
+    const PixelAovs aovs = first_hit_aovs(rs, camera, fx, fy, time);
     film.add_sample(x, y, radiance, &aovs);
 }
 

@@ -41,11 +41,14 @@ public:
     const CameraModel& camera() const { return m_camera; }
     // The camera at shutter time u in [0, 1] (Sampler::shutter_time): between the two motion
     // steps around u; the frame's camera when it does not move.
-    CameraModel camera_at(float u) const {
+    // A still camera is returned as it is, a moving one is interpolated into `scratch`: a sample
+    // costs no camera copy unless the camera moves.
+    const CameraModel& camera_at(float u, CameraModel& scratch) const {
         if (m_camera_steps.empty()) return m_camera;
         const float x = clamp(u, 0.0f, 1.0f) * static_cast<float>(m_camera_steps.size() - 1);
         const size_t k = std::min(static_cast<size_t>(x), m_camera_steps.size() - 2);
-        return CameraModel::interpolate(m_camera_steps[k], m_camera_steps[k + 1], x - static_cast<float>(k));
+        scratch = CameraModel::interpolate(m_camera_steps[k], m_camera_steps[k + 1], x - static_cast<float>(k));
+        return scratch;
     }
     // The inverse of an instance's transform: normals transform by its transpose.
     const Transform& world_to_object(uint32_t instance) const { return m_prepared->world_to_object(instance); }

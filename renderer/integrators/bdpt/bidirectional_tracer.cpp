@@ -54,7 +54,8 @@ public:
     Tracer(const RenderScene& rs, const RenderSettings& settings, const BdptOptions& options, ThreadStats& stats)
         : m_rs(rs),
           m_lights(rs.lights()),
-          m_camera(rs.camera()),
+          m_moving_camera(rs.camera()),
+          m_camera(&rs.camera()),
           m_settings(settings),
           m_options(options),
           m_stats(stats) {}
@@ -62,6 +63,8 @@ public:
     // Traces one pixel sample at shutter time `time` (both subpaths, and the camera they join,
     // at that time); returns the camera-side estimate and splats the light-tracing one.
     Rgb sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, Film& film);
+    // The camera of the last sample (at its shutter time).
+    const CameraModel& camera() const { return *m_camera; }
 
 private:
     int trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng);
@@ -90,7 +93,8 @@ private:
 
     const RenderScene& m_rs;
     const LightSet& m_lights;
-    CameraModel m_camera;  // at the sample's shutter time
+    CameraModel m_moving_camera;  // a moving camera at the sample's time (camera_at's scratch)
+    const CameraModel* m_camera;  // the camera at the sample's shutter time
     float m_time = 0.0f;   // the sample's shutter time, every ray's
     const RenderSettings& m_settings;
     const BdptOptions& m_options;
@@ -154,14 +158,14 @@ int Tracer::random_walk(std::vector<PathVertex>& path, int count, Vec3 origin, V
         PathVertex& v = path[count];
         // Only the camera ray carries a cone for texture mip levels (README, "Textures").
         bool camera_ray = prev.kind == PathVertex::Kind::Camera;
-        fill_surface_vertex(m_rs, rh, dir, &v, camera_ray ? m_camera.footprint_width(rh.t, dir) : 0.0f);
+        fill_surface_vertex(m_rs, rh, dir, &v, camera_ray ? m_camera->footprint_width(rh.t, dir) : 0.0f);
         beta *= beer_lambert(sigma, rh.t * length(dir));  // the segment just travelled
         v.beta = beta;
         v.sigma_in = sigma;
         if (prev.kind == PathVertex::Kind::Light && prev.infinite) {
             // Parallel rays from a disc: the density of the point is the disc's, projected.
             v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
-        } else if (prev.kind == PathVertex::Kind::Camera && m_camera.orthographic()) {
+        } else if (prev.kind == PathVertex::Kind::Camera && m_camera->orthographic()) {
             v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
         } else {
             v.pdf_fwd = to_area_density(pdf_w, prev, v);
@@ -222,7 +226,7 @@ void Tracer::add_shape_lights_crossed(std::vector<PathVertex>& path, int count, 
         v.ng = lh.n;
         v.has_normal = true;
         v.beta = beta * beer_lambert(sigma, lh.t * length(dir));
-        if (prev.kind == PathVertex::Kind::Camera && m_camera.orthographic())
+        if (prev.kind == PathVertex::Kind::Camera && m_camera->orthographic())
             v.pdf_fwd = pdf_w * std::fabs(dot(v.ng, dir));
         else
             v.pdf_fwd = to_area_density(pdf_w, prev, v);
@@ -235,12 +239,12 @@ int Tracer::trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng
     PathVertex& c = ws.camera[0];
     c.reset_endpoint(PathVertex::Kind::Camera);
     Vec3 origin, dir;
-    m_camera.generate_ray(fx, fy, &origin, &dir);
+    m_camera->generate_ray(fx, fy, &origin, &dir);
     c.p = origin;
     c.beta = Rgb(1.0f);
     // An orthographic camera is a delta in direction: no strategy can reach it from a light.
-    c.delta = m_camera.orthographic();
-    float pdf_w = m_camera.orthographic() ? 1.0f / m_camera.image_plane_area() : m_camera.pdf_dir_w(dir);
+    c.delta = m_camera->orthographic();
+    float pdf_w = m_camera->orthographic() ? 1.0f / m_camera->image_plane_area() : m_camera->pdf_dir_w(dir);
     int max_vertices = m_settings.max_depth + 2;
     return random_walk(ws.camera, 1, origin, dir, Rgb(1.0f), pdf_w, TransportMode::Radiance, max_vertices, rng, 1.0f);
 }
@@ -322,7 +326,7 @@ Rgb Tracer::emission_seen_by_camera(const TriangleLight& tl, const Vec3& p, floa
     rh.prim = tl.prim;
     rh.u = b.x;
     rh.v = b.y;
-    SurfaceHit hit = make_surface_hit(m_rs, rh, m_camera.footprint_width(distance, dir));
+    SurfaceHit hit = make_surface_hit(m_rs, rh, m_camera->footprint_width(distance, dir));
     return evaluate_emission(*hit.material, m_rs.scene(), hit.attr);
 }
 
@@ -379,7 +383,7 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
             z_prev_rev = to_area_density(z->bsdf.pdf_w(wo, wi), *z, *z_prev);
         }
         if (t == 1) {
-            y_rev = to_area_density(m_camera.pdf_dir_w(normalize(y->p - z->p)), *z, *y);
+            y_rev = to_area_density(m_camera->pdf_dir_w(normalize(y->p - z->p)), *z, *y);
         } else {
             Vec3 wo = normalize(z_prev->p - z->p), wi = normalize(y->p - z->p);
             y_rev = to_area_density(z->bsdf.pdf_w(wo, wi), *z, *y);
@@ -413,7 +417,7 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
 }
 
 Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, Film& film) {
-    m_camera = m_rs.camera_at(time);
+    m_camera = &m_rs.camera_at(time, m_moving_camera);
     m_time = time;
     m_shape_radiance = Rgb(0.0f);
     int n_camera = trace_camera_subpath(ws, fx, fy, rng);
@@ -455,7 +459,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
             } else if (t == 1) {
                 // Connect light subpath vertex y to the camera; the result lands on another pixel.
                 const PathVertex& y = ws.light[s - 1];
-                if (m_camera.orthographic()) continue;
+                if (m_camera->orthographic()) continue;
                 if (s > 1 && y.bsdf.is_pure_delta()) continue;
                 if (s == 1 && y.delta_light) continue;  // point and sun lights are invisible to the camera
                 if (s == 1 && y.infinite) continue;     // the environment: seen by s = 0 alone
@@ -463,9 +467,9 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
                 float dist2 = length_squared(d);
                 if (!(dist2 > 0.0f)) continue;
                 Vec3 w = d / std::sqrt(dist2);
-                float we = m_camera.importance(w);
+                float we = m_camera->importance(w);
                 float px, py;
-                if (!(we > 0.0f) || !m_camera.project(y.p, &px, &py)) continue;
+                if (!(we > 0.0f) || !m_camera->project(y.p, &px, &py)) continue;
                 Rgb f;
                 Rgb y_beta = y.beta;
                 // Every other strategy reaches this point by the camera's own ray, which reads its
@@ -482,7 +486,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
                     rh.u = y.b1;
                     rh.v = y.b2;
                     fill_surface_vertex(m_rs, rh, normalize(y.p - ws.light[s - 2].p), &seen,
-                                        m_camera.footprint_width(std::sqrt(dist2), w));
+                                        m_camera->footprint_width(std::sqrt(dist2), w));
                     seen.delta = y.delta;
                     seen.p = y.p;  // bit-identical to the vertex the subpath found
                 }
@@ -515,7 +519,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
                     f = ys.bsdf.eval(normalize(ws.light[s - 2].p - y.p), -w, TransportMode::Importance);
                 }
                 if (f.is_black()) continue;
-                Rgb c = y_beta * f * (we * dot(w, m_camera.forward()) / dist2);
+                Rgb c = y_beta * f * (we * dot(w, m_camera->forward()) / dist2);
                 c *= beer_lambert(medium_toward(ys, -w), std::sqrt(dist2));
                 if (c.is_black() || !visible(y, z)) continue;
                 float weight = 1.0f;
@@ -606,7 +610,7 @@ void BidirectionalTracer::render_tile(const RenderScene& rs, const Tile& tile, u
                     ++stats.nonfinite;
                     continue;
                 }
-                add_camera_sample(film, rs, x, y, fx, fy, time, l);
+                add_camera_sample(film, rs, tracer.camera(), x, y, fx, fy, time, l);
             }
         }
     }

@@ -14,8 +14,8 @@ namespace {
 constexpr int k_roulette_start = 3;
 }  // namespace
 
-Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, float time, Sampler& rng,
-                      ThreadStats& stats) const {
+Rgb PathTracer::trace(const RenderScene& rs, const CameraModel& camera, Vec3 origin, Vec3 dir, float time,
+                      Sampler& rng, ThreadStats& stats) const {
     const Scene& scene = rs.scene();
     const LightSet& lights = rs.lights();
     Rgb radiance(0.0f);
@@ -58,7 +58,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, float time, 
         }
         // The camera ray's cone picks texture mip levels; later bounces read full resolution
         // (README, "Textures").
-        SurfaceHit hit = make_surface_hit(rs, rh, bounce == 0 ? rs.camera_at(time).footprint_width(rh.t, dir) : 0.0f);
+        SurfaceHit hit = make_surface_hit(rs, rh, bounce == 0 ? camera.footprint_width(rh.t, dir) : 0.0f);
         beta *= beer_lambert(sigma_a, rh.t * length(dir));  // the segment just travelled
         Vec3 wo = -dir;
 
@@ -132,6 +132,7 @@ Rgb PathTracer::trace(const RenderScene& rs, Vec3 origin, Vec3 dir, float time, 
 
 void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
                              Film& film, ThreadStats& stats) const {
+    CameraModel moving_camera = rs.camera();  // a moving camera's pose at each sample's time
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
             uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
@@ -140,15 +141,16 @@ void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t s
                 auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
                 // One shutter time for the whole path: the camera and every ray see the scene then.
                 const float time = rng.shutter_time();
+                const CameraModel& camera = rs.camera_at(time, moving_camera);
                 Vec3 o, d;
-                rs.camera_at(time).generate_ray(fx, fy, &o, &d);
+                camera.generate_ray(fx, fy, &o, &d);
                 const uint64_t rejected = Accel::rejected_rays_on_this_thread();
-                Rgb l = trace(rs, o, d, time, rng, stats);
+                Rgb l = trace(rs, camera, o, d, time, rng, stats);
                 if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {
                     ++stats.nonfinite;  // dropped, never written
                     continue;
                 }
-                add_camera_sample(film, rs, x, y, fx, fy, time, l);
+                add_camera_sample(film, rs, camera, x, y, fx, fy, time, l);
             }
         }
     }

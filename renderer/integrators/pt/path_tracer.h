@@ -15,7 +15,9 @@ public:
                      ThreadStats& stats) const override;
 
     // Radiance arriving at the camera along one ray (exposed for tests).
-    Rgb trace(const RenderScene& rs, Vec3 origin, Vec3 dir, float time, class Sampler& rng, ThreadStats& stats) const;
+    // `camera` is the sample's (at shutter time `time`): its footprint filters the first hit.
+    Rgb trace(const RenderScene& rs, const CameraModel& camera, Vec3 origin, Vec3 dir, float time, class Sampler& rng,
+              ThreadStats& stats) const;
 
 private:
     RenderSettings m_settings;
