@@ -43,8 +43,10 @@ std::vector<Tap> box_taps(int n, int m) {
     return taps;
 }
 
-// sRGB decoding of level 0 texels. Images from 8-bit files hold k/255 exactly (as the importers
-// store them): a table avoids a pow per texel, which would dominate building a 4K pyramid.
+// sRGB decoding of float level 0 texels. 8-bit files are kept as bytes and decoded by
+// texel_codec's table; a float texture may still hold k/255 values (made in code, or an 8-bit
+// image from elsewhere), and for those a table avoids a pow per texel, which would dominate
+// building a 4K pyramid.
 class SrgbDecoder {
 public:
     SrgbDecoder() {
