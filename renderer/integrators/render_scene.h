@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "camera/camera_model.h"
+#include "core/sobol_sampler.h"
 #include "integrators/prepared_scene.h"
 #include "scene/scene.h"
 
@@ -41,6 +42,9 @@ public:
     const CameraModel& camera() const { return m_camera; }
     // The camera at shutter time u in [0, 1] (Sampler::shutter_time): between the two motion
     // steps around u; the frame's camera when it does not move.
+    // A sample's shutter time: drawn only when the scene has a shutter (Sampler::shutter_time
+    // consumes nothing, so skipping it changes no other value), 0 otherwise.
+    float shutter_time(const Sampler& rng) const { return scene().motion.enabled() ? rng.shutter_time() : 0.0f; }
     // A still camera is returned as it is, a moving one is interpolated into `scratch`: a sample
     // costs no camera copy unless the camera moves.
     const CameraModel& camera_at(float u, CameraModel& scratch) const {

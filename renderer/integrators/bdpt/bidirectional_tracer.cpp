@@ -603,7 +603,7 @@ void BidirectionalTracer::render_tile(const RenderScene& rs, const Tile& tile, u
             for (uint32_t s = sample_begin; s < sample_end; ++s) {
                 Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
                 auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
-                const float time = rng.shutter_time();  // one for the whole sample, light subpath too
+                const float time = rs.shutter_time(rng);  // one for the whole sample, light subpath too
                 const uint64_t rejected = Accel::rejected_rays_on_this_thread();
                 Rgb l = tracer.sample(ws, fx, fy, time, rng, film);
                 if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {

@@ -140,7 +140,7 @@ void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t s
                 Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
                 auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
                 // One shutter time for the whole path: the camera and every ray see the scene then.
-                const float time = rng.shutter_time();
+                const float time = rs.shutter_time(rng);
                 const CameraModel& camera = rs.camera_at(time, moving_camera);
                 Vec3 o, d;
                 camera.generate_ray(fx, fy, &o, &d);
