@@ -31,15 +31,10 @@ import sys
 import tempfile
 import time
 
-FAILURES = []
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check  # noqa: E402
+
 ONLY = None  # --only NAME: one group of checks (while iterating)
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print(f"FAIL: {message}")
-    return condition
 
 
 def run(veach, *args, timeout=120, **kw):

@@ -26,20 +26,12 @@ import tempfile
 import time
 import zlib
 
-try:
-    import OpenImageIO as oiio
-except ImportError as e:  # pragma: no cover
-    sys.exit(f"FAIL: {e} (scripts/install-deps.sh installs python3-openimageio)")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check, import_oiio  # noqa: E402
 
-FAILURES = []
+oiio = import_oiio()
+
 FLAGS = ["--width", "48", "--height", "48", "--integrator", "pt", "--threads", "1"]
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print(f"FAIL: {message}")
-    return condition
 
 
 def run(veach, *args):

@@ -22,21 +22,12 @@ import sys
 import tempfile
 import time
 
-try:
-    import numpy as np
-    import OpenImageIO as oiio
-except ImportError as e:  # pragma: no cover
-    sys.exit(f"FAIL: {e} (scripts/install-deps.sh installs python3-numpy and python3-openimageio)")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check, import_numpy_oiio  # noqa: E402
 
-FAILURES = []
+np, oiio = import_numpy_oiio()
+
 PROGRAMS = ["munged", "mungekey", "slurmctld", "slurmd", "sbatch", "scontrol", "sinfo"]
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print(f"FAIL: {message}")
-    return condition
 
 
 def free_port():

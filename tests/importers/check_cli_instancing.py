@@ -25,20 +25,10 @@ import subprocess
 import sys
 import tempfile
 
-try:
-    import numpy as np
-    import OpenImageIO as oiio
-except ImportError as e:  # pragma: no cover
-    sys.exit(f"FAIL: {e} (scripts/install-deps.sh installs python3-numpy and python3-openimageio)")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check, import_numpy_oiio  # noqa: E402
 
-FAILURES = []
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print(f"FAIL: {message}")
-    return condition
+np, oiio = import_numpy_oiio()
 
 
 class Gltf:

@@ -23,20 +23,12 @@ import subprocess
 import sys
 import tempfile
 
-try:
-    import OpenImageIO as oiio
-except ImportError as e:  # pragma: no cover
-    sys.exit(f"FAIL: {e} (scripts/install-deps.sh installs python3-openimageio)")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check, import_oiio  # noqa: E402
 
-FAILURES = []
+oiio = import_oiio()
+
 BLENDER = "Khronos glTF Blender I/O v3.4.50"
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print(f"FAIL: {message}")
-    return condition
 
 
 def quad_without_material(path, generator):

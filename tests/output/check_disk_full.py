@@ -20,17 +20,12 @@ import subprocess
 import sys
 import tempfile
 
-import OpenImageIO as oiio
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check, import_oiio  # noqa: E402
 
-FAILURES = []
+oiio = import_oiio()
+
 FORMATS = ["exr", "hdr", "png", "jpg", "tif"]
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print(f"FAIL: {message}")
-    return condition
 
 
 def mount_tmpfs(folder, size):
