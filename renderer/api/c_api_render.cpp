@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
+#include "image_io/image_module.h"
 #include "output/atomic_file.h"
 #include "output/display_transform.h"
 
@@ -828,6 +829,13 @@ VEACH_API VeachError veachCheckOutput(VeachRender render, const char* path) {
                 throw invalid(p + ": unknown image format " +
                               (has_ext ? "'" + p.substr(dot) + "'" : std::string("(no extension)")) +
                               " (known: .exr .hdr .png .jpg .tif .vpart)");
+            }
+            // Every image format is encoded by the image module: opening it now makes a missing or
+            // broken installation fail before the render, not after it.
+            try {
+                veach::image_codec();
+            } catch (const veach::ImageModuleError& e) {
+                throw veach::OutputError(p + ": " + e.what());
             }
             // The display transform is what veachWriteImage builds for these formats: building it
             // now finds a display, view or look the colour config lacks.

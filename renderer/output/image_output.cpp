@@ -10,10 +10,8 @@
 #include <system_error>
 #include <vector>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include "core/one_line.h"
+#include "image_io/image_module.h"
 #include "output/atomic_file.h"
 #include "output/display_transform.h"
 
@@ -35,7 +33,7 @@ constexpr ExrCodec k_exr_codecs[] = {{"none", 0}, {"rle", 0},   {"zips", 9},  {"
 
 struct FormatInfo {
     Format format;
-    const char* oiio_name;  // the OIIO plugin, named explicitly so the temp name cannot mislead it
+    const char* oiio_name;  // the OIIO writer, named explicitly so the file name cannot mislead it
     const char* label;
 };
 
@@ -90,10 +88,10 @@ std::vector<float> drop_alpha(const std::vector<float>& rgba) {
     return rgb;
 }
 
-// Pixels in the layout and type the file will hold, plus the matching spec.
+// Pixels in the layout and type the file will hold, plus what the encoder is told of them
+// (request.data is set when the bytes are encoded).
 struct Encoded {
-    OIIO::ImageSpec spec;
-    OIIO::TypeDesc type;
+    image_io::EncodeRequest request;
     std::vector<float> f32;
     std::vector<uint8_t> u8;
     std::vector<uint16_t> u16;
@@ -103,6 +101,23 @@ struct Encoded {
         return u16.data();
     }
 };
+
+void set_shape(Encoded& enc, int width, int height, int channels, image_io::SampleType file_type,
+               image_io::SampleType data_type) {
+    enc.request.width = width;
+    enc.request.height = height;
+    enc.request.channels = channels;
+    enc.request.file_type = file_type;
+    enc.request.data_type = data_type;
+}
+
+void add_attribute(Encoded& enc, const std::string& name, const std::string& text) {
+    enc.request.attributes.push_back({name, text, 0, false});
+}
+
+void add_attribute(Encoded& enc, const std::string& name, int value) {
+    enc.request.attributes.push_back({name, std::string(), value, true});
+}
 
 // One pass of a multi-layer EXR: Blender's layer name, its channel suffixes and where its values
 // live in the Image.
@@ -136,8 +151,8 @@ void encode_multilayer(Encoded& enc, const Image& image, const std::string& path
             fail(path, "unknown render pass '" + p + "'");
     const size_t pixels = static_cast<size_t>(image.width) * image.height;
     std::vector<std::string> names;
-    std::vector<OIIO::TypeDesc> formats;
-    const OIIO::TypeDesc colour_type = settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+    std::vector<image_io::SampleType> formats;
+    const image_io::SampleType colour_type = settings.half ? image_io::SampleType::half : image_io::SampleType::float32;
     for (const PassLayout* l : chosen) {
         if ((image.*(l->values)).size() != pixels * l->stride)
             fail(path, std::string("the render has no ") + l->name + " pass (the film did not record it)");
@@ -145,16 +160,15 @@ void encode_multilayer(Encoded& enc, const Image& image, const std::string& path
             names.push_back(std::string(k_view_layer) + "." + l->layer + "." + *c);
             // Half floats keep 3 significant digits: fine for colour, not for depth, which
             // stays float as Blender writes it.
-            formats.push_back(l->layer == std::string("Depth") ? OIIO::TypeDesc::FLOAT : colour_type);
+            formats.push_back(l->layer == std::string("Depth") ? image_io::SampleType::float32 : colour_type);
         }
     }
     const int channels = static_cast<int>(names.size());
-    enc.spec = OIIO::ImageSpec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT);
-    enc.spec.channelnames = names;
-    enc.spec.channelformats = formats;
-    enc.spec.alpha_channel = chosen.front() == &k_pass_layouts[0] ? 3 : -1;
-    enc.spec.z_channel = -1;
-    enc.type = OIIO::TypeDesc::FLOAT;
+    set_shape(enc, image.width, image.height, channels, image_io::SampleType::float32, image_io::SampleType::float32);
+    enc.request.channel_names = names;
+    enc.request.channel_types = formats;
+    enc.request.alpha_channel = chosen.front() == &k_pass_layouts[0] ? 3 : -1;
+    enc.request.z_channel = -1;
     enc.f32.resize(pixels * channels);
     for (size_t i = 0; i < pixels; ++i) {
         float* out = &enc.f32[i * channels];
@@ -174,18 +188,17 @@ Encoded encode(const Image& image, const std::string& path, const FormatInfo& in
                 fail(path, "unknown EXR codec '" + settings.exr_codec + "' (known: " + known + ")");
             }
             if (settings.passes.empty()) {
-                enc.spec = OIIO::ImageSpec(w, h, 4, settings.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-                enc.type = OIIO::TypeDesc::FLOAT;
+                set_shape(enc, w, h, 4, settings.half ? image_io::SampleType::half : image_io::SampleType::float32,
+                          image_io::SampleType::float32);
                 enc.f32 = image.rgba;
             } else {
                 encode_multilayer(enc, image, path, settings);
             }
-            enc.spec.attribute("compression", settings.exr_codec);
+            add_attribute(enc, "compression", settings.exr_codec);
             return enc;
         case Format::hdr:
             // RGBE has no alpha channel.
-            enc.spec = OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT);
-            enc.type = OIIO::TypeDesc::FLOAT;
+            set_shape(enc, w, h, 3, image_io::SampleType::float32, image_io::SampleType::float32);
             enc.f32 = drop_alpha(image.rgba);
             return enc;
         case Format::png:
@@ -223,26 +236,24 @@ Encoded encode(const Image& image, const std::string& path, const FormatInfo& in
     } catch (const std::exception& e) {
         fail(path, e.what());
     }
-    if (bits == 8) {
-        enc.type = OIIO::TypeDesc::UINT8;
+    const image_io::SampleType type = bits == 8 ? image_io::SampleType::uint8 : image_io::SampleType::uint16;
+    if (bits == 8)
         enc.u8 = quantise<uint8_t>(display.rgba, 4, channels);
-    } else {
-        enc.type = OIIO::TypeDesc::UINT16;
+    else
         enc.u16 = quantise<uint16_t>(display.rgba, 4, channels);
-    }
-    enc.spec = OIIO::ImageSpec(w, h, channels, enc.type);
+    set_shape(enc, w, h, channels, type, type);
     if (channels == 4) {
         // Already un-premultiplied above: stop OIIO from dividing by alpha a second time.
-        enc.spec.attribute("oiio:UnassociatedAlpha", 1);
+        add_attribute(enc, "oiio:UnassociatedAlpha", 1);
     }
     if (info.format == Format::jpeg) {
         const int quality = std::clamp(settings.quality, 1, 100);
-        enc.spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+        add_attribute(enc, "Compression", "jpeg:" + std::to_string(quality));
         // Renders have sharp coloured edges (lights, saturated materials) that 4:2:0 chroma
         // subsampling visibly smears; full-resolution chroma costs little at these qualities.
-        enc.spec.attribute("jpeg:subsampling", "4:4:4");
+        add_attribute(enc, "jpeg:subsampling", "4:4:4");
     }
-    if (info.format == Format::tiff) enc.spec.attribute("compression", "zip");
+    if (info.format == Format::tiff) add_attribute(enc, "compression", "zip");
     return enc;
 }
 
@@ -263,26 +274,23 @@ bool add_radiance_header_lines(std::vector<unsigned char>& bytes, const std::map
     return true;
 }
 
-// Encodes the whole file into memory through OpenImageIO's IOProxy: the encoders never touch
-// the disk, so a full disk cannot make one of them fail half-way (libjpeg would exit() the
-// process from inside OpenImageIO), and the bytes then go through AtomicFile, which checks every
-// write.
-std::vector<unsigned char> encode_file(const Encoded& enc, const std::string& path, const FormatInfo& info) {
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    auto out = OIIO::ImageOutput::create(info.oiio_name);
-    if (!out) fail(path, std::string("no OpenImageIO writer for ") + info.label + ": " + OIIO::geterror());
-    if (!out->supports("ioproxy"))
-        fail(path, std::string("the OpenImageIO ") + info.label + " writer cannot encode to memory");
-    out->set_ioproxy(&proxy);
-    if (!out->open(path, enc.spec)) fail(path, "cannot encode: " + out->geterror());
-    bool ok = out->write_image(enc.type, enc.data());
-    std::string err = ok ? std::string() : out->geterror();
-    if (!out->close() && ok) {
-        ok = false;
-        err = out->geterror();
+// Encodes the whole file into memory (the image module's encoders write through OpenImageIO's
+// IOProxy): the encoders never touch the disk, so a full disk cannot make one of them fail
+// half-way (libjpeg would exit() the process from inside OpenImageIO), and the bytes then go
+// through AtomicFile, which checks every write.
+std::vector<unsigned char> encode_file(Encoded& enc, const std::string& path, const FormatInfo& info) {
+    const image_io::Codec* codec = nullptr;
+    try {
+        codec = &image_codec();
+    } catch (const ImageModuleError& e) {
+        fail(path, e.what());
     }
-    if (!ok) fail(path, "cannot encode: " + (err.empty() ? std::string("unknown error") : err));
+    enc.request.writer = info.oiio_name;
+    enc.request.name = path;
+    enc.request.data = enc.data();
+    std::vector<unsigned char> bytes;
+    std::string error;
+    if (!codec->encode(enc.request, bytes, error)) fail(path, error);
     return bytes;
 }
 
@@ -352,7 +360,7 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
     // Everything that can fail before touching the disk (display transform, settings) happens
     // here, so a bad setting never creates a temp file.
     Encoded enc = encode(image, path, info, settings);
-    for (const auto& [key, value] : settings.metadata) enc.spec.attribute(key, value);
+    for (const auto& [key, value] : settings.metadata) add_attribute(enc, key, value);
     if ((info.format == Format::jpeg || info.format == Format::tiff) && !settings.metadata.empty() &&
         !settings.metadata.count("ImageDescription")) {
         // JPEG (EXIF) and TIFF only keep fixed tags, so our own keys would be dropped: they travel
@@ -360,7 +368,7 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
         std::string description;
         for (const auto& [key, value] : settings.metadata)
             description += (description.empty() ? "" : "; ") + key + "=" + value;
-        enc.spec.attribute("ImageDescription", description);
+        add_attribute(enc, "ImageDescription", description);
     }
 
     std::vector<unsigned char> bytes = encode_file(enc, path, info);
@@ -407,17 +415,22 @@ bool read_image_metadata(const std::string& path, std::map<std::string, std::str
         }
         return true;
     }
-    auto input = OIIO::ImageInput::open(path);
-    if (!input) {
-        error = path + ": " + one_line(OIIO::geterror());
+    const image_io::Codec* codec = nullptr;
+    try {
+        codec = &image_codec();
+    } catch (const ImageModuleError& e) {
+        error = path + ": " + e.what();
         return false;
     }
-    const OIIO::ImageSpec& spec = input->spec();
-    for (const OIIO::ParamValue& p : spec.extra_attribs)
-        if (p.type() == OIIO::TypeString) metadata.emplace(p.name().string(), p.get_string());
-    if (info.format == Format::jpeg || info.format == Format::tiff)
-        parse_description(spec.get_string_attribute("ImageDescription"), metadata);
-    input->close();
+    std::string open_error;
+    auto input = codec->open_file(path, open_error);
+    if (!input) {
+        error = path + ": " + one_line(open_error);
+        return false;
+    }
+    const image_io::Header& header = input->header();
+    for (const auto& [key, value] : header.string_attributes) metadata.emplace(key, value);
+    if (info.format == Format::jpeg || info.format == Format::tiff) parse_description(header.description, metadata);
     return true;
 }
 

@@ -1,5 +1,6 @@
-// Reading images from files through OpenImageIO, for what stb cannot read (EXR, HDR, TIFF, ...)
-// and for environment maps. OpenImageIO's types stay inside image_reader.cpp.
+// Reading images through OpenImageIO, for what stb cannot read (EXR, HDR, TIFF, ...) and for
+// environment maps. OpenImageIO lives in the image module (image_io/image_module.h), opened by
+// the first read; a module that cannot be opened is an ImageReadError naming the file.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """The installed tree works for a host: `cmake --install` into a temporary prefix, then
 - libveach's SONAME carries the major version and it exports only the C API (veach* symbols);
+- OpenImageIO is not linked into libveach but into the image module installed beside it:
+  without the module a part file still renders and an image output fails before rendering;
 - the installed `veach` command runs from the moved prefix and is a client of libveach through
   veach* symbols only (none of the renderer's libraries linked into it);
 - examples/host-c (C11, through pkg-config) and examples/cmake-consumer (C++, through
@@ -64,6 +66,14 @@ def main():
         soname = run(["objdump", "-p", libs[0]]).stdout
         if "SONAME               libveach.so.0" not in soname:
             sys.exit("FAIL: libveach's SONAME is not libveach.so.<major>")
+        # OpenImageIO is opened on first use from the image module beside the library, never
+        # linked: a process that reads and writes no image must not load its ~260 libraries.
+        lib_needed = [l.split()[-1] for l in soname.splitlines() if "NEEDED" in l]
+        if any(n.startswith("libOpenImageIO") for n in lib_needed):
+            sys.exit(f"FAIL: libveach links OpenImageIO (it belongs in the image module): {lib_needed}")
+        module = os.path.join(libdir, "libveach_image_io.so")
+        if not os.path.isfile(module):
+            sys.exit(f"FAIL: the image module is not installed beside libveach: {module}")
         exported = [l.split()[-1] for l in run(["nm", "-D", "--defined-only", libs[0]]).stdout.splitlines()
                     if l.split()[1:2] == ["T"]]
         leaked = [s for s in exported if not s.startswith("veach")]
@@ -104,6 +114,23 @@ def main():
         outputs["veach command"] = os.path.join(tmp, "cli.png")
         run([cli, "render", scene, "-o", outputs["veach command"], "--width", width, "--spp", spp,
              "--integrator", "pt", "--quiet"], env=clean_env)
+        # Without the image module: a part (.vpart) still renders, since it needs no image
+        # library; an image output fails with one line naming the module (checked before rendering).
+        hidden = module + ".hidden"
+        os.rename(module, hidden)
+        try:
+            run([cli, "render", scene, "-o", os.path.join(tmp, "part.vpart"), "--width", width, "--spp", spp,
+                 "--samples", "0:2", "--quiet"], env=clean_env)
+            p = run([cli, "render", scene, "-o", os.path.join(tmp, "nomodule.png"), "--width", width, "--spp", spp,
+                     "--quiet"], env=clean_env, expect=None)
+        finally:
+            os.rename(hidden, module)
+        lines = p.stderr.strip().splitlines()
+        if p.returncode == 0 or len(lines) != 1 or "libveach_image_io.so" not in lines[0]:
+            sys.exit(f"FAIL: a PNG without the image module should fail with one line naming it: "
+                     f"exit {p.returncode}, {p.stderr!r}")
+        if os.path.exists(os.path.join(tmp, "nomodule.png")):
+            sys.exit("FAIL: a PNG was written without the image module")
         missing = run([host_c, os.path.join(tmp, "missing.gltf"), os.path.join(tmp, "x.png")], env=env, expect=2)
         if "missing.gltf" not in missing.stderr:
             sys.exit(f"FAIL: the error for a missing scene does not name it: {missing.stderr}")

@@ -842,6 +842,51 @@ TEST_F(CApi, OutputsCheckedWithoutRendering) {
     std::filesystem::remove_all(dir);
 }
 
+// Whether a shared object whose path contains `name` is mapped into this process.
+bool mapped(const std::string& name) {
+    std::ifstream maps("/proc/self/maps");
+    for (std::string line; std::getline(maps, line);)
+        if (line.find(name) != std::string::npos) return true;
+    return false;
+}
+
+// OpenImageIO (Debian's pulls in ~260 libraries) is loaded by the first image read or written,
+// never by a process that only loads a scene without images, renders and writes a part file: a
+// farm part's fixed cost. The first image written opens libveach's image module.
+TEST_F(CApi, OpenImageIOIsLoadedOnlyByTheFirstImageReadOrWritten) {
+    // CTest runs each case in a process of its own; run with the others, an earlier case's image
+    // has opened the module already.
+    if (mapped("libveach_image_io")) GTEST_SKIP() << "an image was read or written earlier in this process";
+    ASSERT_FALSE(mapped("libOpenImageIO")) << "libveach must not link OpenImageIO";
+    auto dir = std::filesystem::temp_directory_path() / ("veach_capi_lazy_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    VeachScene scene = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(scene, nullptr) << veachGetLastError();
+    VeachRender r = new_cornell_render(scene);
+    ASSERT_EQ(veachSetInt(r, "sample_begin", 0), VEACH_ERROR_NONE);
+    ASSERT_EQ(veachSetInt(r, "sample_end", 2), VEACH_ERROR_NONE);
+    const std::string part = (dir / "a.vpart").string();
+    ASSERT_EQ(veachCheckOutput(r, part.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+    ASSERT_EQ(veachWriteImage(r, part.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    char buffer[4096];
+    size_t length = 0;
+    ASSERT_EQ(veachReadImageMetadata(m_device, part.c_str(), buffer, sizeof(buffer), &length), VEACH_ERROR_NONE)
+        << veachGetLastError();
+    EXPECT_FALSE(mapped("libOpenImageIO")) << "a part render loaded OpenImageIO";
+    EXPECT_FALSE(mapped("libveach_image_io"));
+    const std::string png = (dir / "a.png").string();
+    ASSERT_EQ(veachWriteImage(r, png.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
+    EXPECT_TRUE(mapped("libveach_image_io.so"));
+    EXPECT_TRUE(mapped("libOpenImageIO"));
+    ASSERT_EQ(veachReadImageMetadata(m_device, png.c_str(), buffer, sizeof(buffer), &length), VEACH_ERROR_NONE)
+        << veachGetLastError();
+    EXPECT_NE(std::string(buffer).find("veach:spp=2"), std::string::npos) << buffer;
+    veachReleaseRender(r);
+    veachReleaseScene(scene);
+    std::filesystem::remove_all(dir);
+}
+
 // An orthographic camera over [-1, 1]^2 and an emissive quad (radiance 1) on its left half that
 // slides out of view by -1 in x between t = 0 and 1: the image mean is 0.5 at t = 0, 0.25 at 0.5.
 std::string slide_gltf() {

@@ -282,7 +282,8 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
  * instead of after an hour of rendering: VEACH_ERROR_INVALID_ARGUMENT for an unknown format
  * (extension) and, for PNG/JPEG/TIFF, a display, view or look the OpenColorIO config lacks (or a
  * config that cannot be read); VEACH_ERROR_OUTPUT when the folder does not exist or no file can
- * be created in it (as veachCheckFile) or `path` is a folder. Works on a render that has not run,
+ * be created in it (as veachCheckFile), `path` is a folder or, for an image format (not .vpart),
+ * libveach's image module (libveach_image_io.so, beside the library) cannot be opened. Works on a render that has not run,
  * even one of an empty scene. One line naming the file either way. */
 VEACH_API VeachError veachCheckOutput(VeachRender render, const char* path);
 /* The metadata of a file veachWriteImage wrote (since 0.5), "key=value" one a line, through the
