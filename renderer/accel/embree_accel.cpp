@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/rng.h"
+#include "scene/scene_motion.h"
 #include "materials/alpha.h"
 
 namespace veach {
@@ -59,6 +60,42 @@ bool traceable(const Vec3& o, const Vec3& d, float t_max) {
     return ok;
 }
 
+// M's 3x3 part as Q U (Gram-Schmidt on its columns: Q a rotation, U upper triangular, a mirroring
+// M's sign in U's last diagonal entry) and its translation: Embree's T R S with no shift. False
+// for a singular M, which keeps linear interpolation of its matrices.
+bool decompose(const Transform& m, RTCQuaternionDecomposition* qd) {
+    double c[3][3], q[3][3], u[3][3] = {};
+    for (int j = 0; j < 3; ++j)
+        for (int r = 0; r < 3; ++r) c[j][r] = m.m[r][j];
+    auto dotd = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    for (int j = 0; j < 3; ++j) {
+        double v[3] = {c[j][0], c[j][1], c[j][2]};
+        for (int i = 0; i < j; ++i) {
+            u[i][j] = dotd(q[i], c[j]);
+            for (int r = 0; r < 3; ++r) v[r] -= u[i][j] * q[i][r];
+        }
+        u[j][j] = std::sqrt(dotd(v, v));
+        if (!(u[j][j] > 1e-30) || !std::isfinite(u[j][j])) return false;
+        for (int r = 0; r < 3; ++r) q[j][r] = v[r] / u[j][j];
+    }
+    const double cr[3] = {q[0][1] * q[1][2] - q[0][2] * q[1][1], q[0][2] * q[1][0] - q[0][0] * q[1][2],
+                          q[0][0] * q[1][1] - q[0][1] * q[1][0]};
+    if (dotd(cr, q[2]) < 0) {
+        for (int r = 0; r < 3; ++r) q[2][r] = -q[2][r];
+        u[2][2] = -u[2][2];
+    }
+    Transform rot;
+    for (int r = 0; r < 3; ++r)
+        for (int j = 0; j < 3; ++j) rot.m[r][j] = float(q[j][r]);
+    const std::array<float, 4> quat = quaternion_of_rotation(rot);
+    rtcInitQuaternionDecomposition(qd);
+    rtcQuaternionDecompositionSetScale(qd, float(u[0][0]), float(u[1][1]), float(u[2][2]));
+    rtcQuaternionDecompositionSetSkew(qd, float(u[0][1]), float(u[0][2]), float(u[1][2]));
+    rtcQuaternionDecompositionSetQuaternion(qd, quat[3], quat[0], quat[1], quat[2]);
+    rtcQuaternionDecompositionSetTranslation(qd, m.m[0][3], m.m[1][3], m.m[2][3]);
+    return true;
+}
+
 }  // namespace
 
 uint64_t Accel::rejected_rays_on_this_thread() { return t_rejected_rays; }
@@ -77,6 +114,8 @@ struct Accel::Impl {
     std::vector<std::unique_ptr<AlphaGeometry>> alpha;  // filter data, stable addresses
     unsigned static_id = RTC_INVALID_GEOMETRY_ID;       // the static BVH's instance in the top level
     std::vector<uint32_t> static_to_instance;           // static BVH geometry id -> instance
+    std::vector<int> instance_steps;                    // per instance: Embree time steps (1: still)
+    std::vector<int> mesh_steps;                        // per mesh: its vertices' time steps (1: still)
 
     explicit Impl(const Scene& s) : scene(s) {}
     ~Impl() {
@@ -110,24 +149,60 @@ struct Accel::Impl {
     RTCScene mesh_scene(uint32_t m, bool deforming) {
         RTCScene& sub = mesh_scenes[m];
         if (sub) return sub;
-        const Mesh& mesh = scene.meshes[m];
         sub = rtcNewScene(device);
         // Refitting is a per-geometry quality, which Embree honours in its two-level (LOW) mode.
         rtcSetSceneBuildQuality(sub, deforming ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
-        RTCGeometry mg = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        if (deforming) rtcSetGeometryBuildQuality(mg, RTC_BUILD_QUALITY_REFIT);
-        auto* vb = static_cast<Vec3*>(rtcSetNewGeometryBuffer(mg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              sizeof(Vec3), mesh.positions.size()));
-        std::copy(mesh.positions.begin(), mesh.positions.end(), vb);
-        if (deforming) mesh_vertices[m] = vb;
-        rtcSetSharedGeometryBuffer(mg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
-                                   3 * sizeof(uint32_t), mesh.triangle_count());
-        install_alpha_filter(mg, mesh);
-        rtcCommitGeometry(mg);
+        RTCGeometry mg = mesh_geometry_of(m, deforming);
         rtcAttachGeometry(sub, mg);
         mesh_geometry[m] = mg;  // our reference, kept for update()
         rtcCommitScene(sub);
         return sub;
+    }
+
+    // Mesh m's triangles in its own space with Embree-owned vertices: one buffer per time step
+    // when it deforms during the shutter (scene.motion), else the mesh's positions.
+    RTCGeometry mesh_geometry_of(uint32_t m, bool deforming) {
+        const Mesh& mesh = scene.meshes[m];
+        RTCGeometry mg = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        if (deforming) rtcSetGeometryBuildQuality(mg, RTC_BUILD_QUALITY_REFIT);
+        const bool steps = deforming && scene.motion.mesh_deforms(m);
+        mesh_steps[m] = steps ? scene.motion.steps : 1;
+        if (steps) rtcSetGeometryTimeStepCount(mg, unsigned(mesh_steps[m]));
+        for (int k = 0; k < mesh_steps[m]; ++k) {
+            const std::vector<Vec3>& p = steps ? scene.motion.meshes[m].positions[size_t(k)] : mesh.positions;
+            auto* vb = static_cast<Vec3*>(rtcSetNewGeometryBuffer(mg, RTC_BUFFER_TYPE_VERTEX, unsigned(k),
+                                                                  RTC_FORMAT_FLOAT3, sizeof(Vec3), p.size()));
+            std::copy(p.begin(), p.end(), vb);
+            if (deforming && k == 0) mesh_vertices[m] = vb;
+        }
+        rtcSetSharedGeometryBuffer(mg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                                   3 * sizeof(uint32_t), mesh.triangle_count());
+        install_alpha_filter(mg, mesh);
+        rtcCommitGeometry(mg);
+        return mg;
+    }
+
+    // A deforming mesh's new vertices (every time step): copied into its buffers, or, when its
+    // number of time steps changed, a new geometry in place of the old one. Its BVH is refitted
+    // (rebuilt after a new geometry) by the commit.
+    void update_mesh(uint32_t m) {
+        const int want = scene.motion.mesh_deforms(m) ? scene.motion.steps : 1;
+        if (want != mesh_steps[m]) {
+            rtcDetachGeometry(mesh_scenes[m], 0);
+            rtcReleaseGeometry(mesh_geometry[m]);
+            mesh_geometry[m] = mesh_geometry_of(m, true);
+            rtcAttachGeometryByID(mesh_scenes[m], mesh_geometry[m], 0);
+        } else {
+            for (int k = 0; k < mesh_steps[m]; ++k) {
+                const std::vector<Vec3>& p =
+                    want > 1 ? scene.motion.meshes[m].positions[size_t(k)] : scene.meshes[m].positions;
+                auto* vb = static_cast<Vec3*>(rtcGetGeometryBufferData(mesh_geometry[m], RTC_BUFFER_TYPE_VERTEX, unsigned(k)));
+                std::copy(p.begin(), p.end(), vb);
+                rtcUpdateGeometryBuffer(mesh_geometry[m], RTC_BUFFER_TYPE_VERTEX, unsigned(k));
+            }
+            rtcCommitGeometry(mesh_geometry[m]);
+        }
+        rtcCommitScene(mesh_scenes[m]);
     }
 
     // Alpha-tested materials get intersection and occlusion filters; everything else none.
@@ -145,6 +220,45 @@ struct Accel::Impl {
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 4; ++c) xfm[r * 4 + c] = t.m[r][c];
         rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+        rtcCommitGeometry(g);
+    }
+
+    // Instance i's transform: its time steps when it moves during the shutter (scene.motion), as
+    // quaternion decompositions so that Embree slerps the rotation (linear matrices when one is
+    // singular), else the one transform.
+    void set_instance_transform(uint32_t i) {
+        RTCGeometry g = instance_geometry[i];
+        const bool moves = scene.motion.instance_moves(i);
+        const std::vector<Transform>* steps = moves ? &scene.motion.instance_to_world[i] : nullptr;
+        if (!steps) {
+            if (instance_steps[i] != 1) rtcSetGeometryTimeStepCount(g, 1);
+            instance_steps[i] = 1;
+            set_transform(g, scene.instances[i].object_to_world);
+            return;
+        }
+        std::vector<RTCQuaternionDecomposition> qd(steps->size());
+        bool quaternions = true;
+        for (size_t k = 0; k < steps->size() && quaternions; ++k) quaternions = decompose((*steps)[k], &qd[k]);
+        // Each rotation on the same side as the one before: Embree slerps the shorter arc then.
+        for (size_t k = 1; quaternions && k < qd.size(); ++k) {
+            const float d = qd[k].quaternion_r * qd[k - 1].quaternion_r + qd[k].quaternion_i * qd[k - 1].quaternion_i +
+                            qd[k].quaternion_j * qd[k - 1].quaternion_j + qd[k].quaternion_k * qd[k - 1].quaternion_k;
+            if (d < 0.0f)
+                rtcQuaternionDecompositionSetQuaternion(&qd[k], -qd[k].quaternion_r, -qd[k].quaternion_i,
+                                                        -qd[k].quaternion_j, -qd[k].quaternion_k);
+        }
+        instance_steps[i] = int(steps->size());
+        rtcSetGeometryTimeStepCount(g, unsigned(steps->size()));
+        for (size_t k = 0; k < steps->size(); ++k) {
+            if (quaternions) {
+                rtcSetGeometryTransformQuaternion(g, unsigned(k), &qd[k]);
+            } else {
+                float xfm[12];
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 4; ++c) xfm[r * 4 + c] = (*steps)[k].m[r][c];
+                rtcSetGeometryTransform(g, unsigned(k), RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+            }
+        }
         rtcCommitGeometry(g);
     }
 
@@ -189,6 +303,8 @@ Accel::Accel(const Scene& scene) : m_impl(std::make_unique<Impl>(scene)) {
     d.mesh_geometry.assign(scene.meshes.size(), nullptr);
     d.mesh_vertices.assign(scene.meshes.size(), nullptr);
     d.instance_geometry.assign(scene.instances.size(), nullptr);
+    d.instance_steps.assign(scene.instances.size(), 1);
+    d.mesh_steps.assign(scene.meshes.size(), 1);
     d.baked.resize(scene.instances.size());
     // Top-level ids of the baked geometry in the static BVH: the instance it belongs to.
     std::vector<uint32_t> static_to_instance;
@@ -214,9 +330,9 @@ Accel::Accel(const Scene& scene) : m_impl(std::make_unique<Impl>(scene)) {
         }
         RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, d.mesh_scene(inst.mesh, deforming[inst.mesh] != 0));
-        d.set_transform(g, inst.object_to_world);
-        d.attach(g, uint32_t(i));
         d.instance_geometry[i] = g;  // our reference, kept for update()
+        d.set_instance_transform(uint32_t(i));
+        d.attach(g, uint32_t(i));
     }
     if (layered) {
         rtcCommitScene(d.static_scene);
@@ -245,16 +361,13 @@ bool Accel::update(const SceneChanges& changes) {
     bool top_changed = false;
     for (uint32_t m : changes.deformed_meshes) {
         const Mesh& mesh = scene.meshes[m];
-        if (!d.mesh_vertices[m]) continue;
-        std::copy(mesh.positions.begin(), mesh.positions.end(), d.mesh_vertices[m]);
-        rtcUpdateGeometryBuffer(d.mesh_geometry[m], RTC_BUFFER_TYPE_VERTEX, 0);
-        rtcCommitGeometry(d.mesh_geometry[m]);
-        rtcCommitScene(d.mesh_scenes[m]);  // refits
+        if (!d.mesh_vertices[m] || mesh.triangle_count() == 0) continue;
+        d.update_mesh(m);
         top_changed = true;
     }
     for (uint32_t i : changes.moved_instances) {
         if (!d.instance_geometry[i]) continue;
-        d.set_transform(d.instance_geometry[i], scene.instances[i].object_to_world);
+        d.set_instance_transform(i);
         top_changed = true;
     }
     if (top_changed) rtcCommitScene(d.top);
@@ -291,6 +404,7 @@ bool Accel::intersect(const Vec3& origin, const Vec3& dir, float t_max, RayHit* 
     hit->prim = rh.hit.primID;
     hit->u = rh.hit.u;
     hit->v = rh.hit.v;
+    hit->time = time;
     return true;
 }
 
@@ -314,20 +428,47 @@ bool Accel::occluded(const Vec3& origin, const Vec3& dir, float t_max, float tim
     return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
-void Accel::triangle_world(uint32_t instance, uint32_t prim, Vec3* p0, Vec3* p1, Vec3* p2) const {
-    const Instance& inst = m_impl->scene.instances[instance];
-    const Mesh& mesh = m_impl->scene.meshes[inst.mesh];
+bool Accel::moving_transform(uint32_t instance, float time, Transform* object_to_world) const {
+    const Impl& d = *m_impl;
+    if (instance >= d.instance_steps.size() || d.instance_steps[instance] <= 1) return false;
+    float xfm[12];
+    rtcGetGeometryTransform(d.instance_geometry[instance], time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) object_to_world->m[r][c] = xfm[r * 4 + c];
+    return true;
+}
+
+bool Accel::mesh_deforms(uint32_t mesh) const { return mesh < m_impl->mesh_steps.size() && m_impl->mesh_steps[mesh] > 1; }
+
+void Accel::triangle_world(uint32_t instance, uint32_t prim, Vec3* p0, Vec3* p1, Vec3* p2, float time) const {
+    const Impl& d = *m_impl;
+    const Instance& inst = d.scene.instances[instance];
+    const Mesh& mesh = d.scene.meshes[inst.mesh];
     const uint32_t* idx = &mesh.indices[static_cast<size_t>(prim) * 3];
-    const std::vector<Vec3>& baked = m_impl->baked[instance];
+    const std::vector<Vec3>& baked = d.baked[instance];
     if (!baked.empty()) {
         *p0 = baked[idx[0]];
         *p1 = baked[idx[1]];
         *p2 = baked[idx[2]];
-    } else {
-        *p0 = inst.object_to_world.point(mesh.positions[idx[0]]);
-        *p1 = inst.object_to_world.point(mesh.positions[idx[1]]);
-        *p2 = inst.object_to_world.point(mesh.positions[idx[2]]);
+        return;
     }
+    Vec3 q[3];
+    if (d.mesh_steps[inst.mesh] > 1) {
+        // Embree's interpolation of a vertex between time steps: (1 - f) a + f b.
+        int k;
+        float f;
+        motion_segment(time, d.mesh_steps[inst.mesh], &k, &f);
+        const MeshMotion& mm = d.scene.motion.meshes[inst.mesh];
+        for (int j = 0; j < 3; ++j)
+            q[j] = mm.positions[size_t(k)][idx[j]] * (1.0f - f) + mm.positions[size_t(k) + 1][idx[j]] * f;
+    } else {
+        for (int j = 0; j < 3; ++j) q[j] = mesh.positions[idx[j]];
+    }
+    Transform moving;
+    const Transform& o2w = moving_transform(instance, time, &moving) ? moving : inst.object_to_world;
+    *p0 = o2w.point(q[0]);
+    *p1 = o2w.point(q[1]);
+    *p2 = o2w.point(q[2]);
 }
 
 }  // namespace veach

@@ -19,9 +19,38 @@ Bounds3 PreparedScene::instance_bounds(size_t instance) const {
     const Instance& inst = m_scene.instances[instance];
     const Mesh& mesh = m_scene.meshes[inst.mesh];
     Bounds3 b;
-    for (uint32_t i : mesh.indices)
-        if (i < mesh.positions.size() && is_finite(mesh.positions[i]))
-            b.extend(inst.object_to_world.point(mesh.positions[i]));
+    auto extend = [&](const std::vector<Vec3>& positions, const Transform& to_world) {
+        for (uint32_t i : mesh.indices)
+            if (i < positions.size() && is_finite(positions[i])) b.extend(to_world.point(positions[i]));
+    };
+    extend(mesh.positions, inst.object_to_world);
+    // Moving geometry: its path through the shutter. Deformed vertices move on straight lines
+    // between steps (the steps' bounds hold them); a slerped rotation bends between steps, so its
+    // transform is taken at several times per step as well (a bound within a small fraction of
+    // the object's distance from its centre of rotation).
+    const SceneMotion& motion = m_scene.motion;
+    const bool deforms = m_accel->mesh_deforms(inst.mesh);
+    Transform moving;
+    const bool moves = m_accel->moving_transform(uint32_t(instance), 0.0f, &moving);
+    if (!deforms && !moves) return b;
+    const int per_step = moves ? 8 : 1;
+    const int samples = (motion.steps - 1) * per_step;
+    for (int j = 0; j <= samples; ++j) {
+        const float u = float(j) / float(samples);
+        const Transform& to_world = moves && m_accel->moving_transform(uint32_t(instance), u, &moving) ? moving
+                                                                                                  : inst.object_to_world;
+        if (deforms) {
+            // Between samples, vertices interpolate within one step's segment: the sampled steps
+            // are every step (j a multiple of per_step) plus the rotation's extra times.
+            int k;
+            float f;
+            motion_segment(u, motion.steps, &k, &f);
+            extend(motion.meshes[inst.mesh].positions[size_t(k)], to_world);
+            extend(motion.meshes[inst.mesh].positions[size_t(k) + 1], to_world);
+        } else {
+            extend(mesh.positions, to_world);
+        }
+    }
     return b;
 }
 
@@ -30,7 +59,7 @@ PreparedScene::PreparedScene(const Scene& scene)
     m_instance_bounds.reserve(scene.instances.size());
     for (size_t i = 0; i < scene.instances.size(); ++i) m_instance_bounds.push_back(instance_bounds(i));
     for (const Bounds3& b : m_instance_bounds) m_bounds.extend(b);
-    m_lights = std::make_unique<LightSet>(scene, *m_accel);
+    m_lights = std::make_unique<LightSet>(scene, *m_accel, &m_bounds);
     m_light_builds = 1;
     m_world_to_object.reserve(scene.instances.size());
     for (const Instance& inst : scene.instances) m_world_to_object.push_back(inverse(inst.object_to_world));
@@ -64,7 +93,7 @@ bool PreparedScene::update(const SceneChanges& changes) {
     for (uint32_t i : changes.moved_instances) relight = relight || emits(m_scene.instances[i].mesh);
     for (uint32_t m : changes.deformed_meshes) relight = relight || emits(m);
     if (relight) {
-        m_lights = std::make_unique<LightSet>(m_scene, *m_accel);
+        m_lights = std::make_unique<LightSet>(m_scene, *m_accel, &m_bounds);
         ++m_light_builds;
     }
     return true;

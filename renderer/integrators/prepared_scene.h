@@ -31,7 +31,9 @@ public:
     const Scene& scene() const { return m_scene; }
     const Accel& accel() const { return *m_accel; }
     const LightSet& lights() const { return *m_lights; }
-    const Bounds3& bounds() const { return m_bounds; }  // Scene::bounds() when built or last updated
+    // Scene::bounds() when built or last updated, widened by the path through the shutter of
+    // whatever moves during it (motion blur).
+    const Bounds3& bounds() const { return m_bounds; }
     const Transform& world_to_object(uint32_t instance) const { return m_world_to_object[instance]; }
     bool thin_walled(uint32_t mesh) const { return m_thin_walled[mesh] != 0; }
     // How often the light tables were built (1 after construction): for tests and stats.

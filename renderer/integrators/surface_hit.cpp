@@ -5,6 +5,46 @@
 namespace veach {
 
 namespace {
+
+// Where a hit's instance and vertices stand at the hit's shutter time: the instance's transform
+// and its inverse (its own, or the moving one Embree traced against), and for a deforming mesh
+// the two vertex steps around the time with the fraction between them (Accel's interpolation).
+struct HitPlacement {
+    const Transform* object_to_world = nullptr;
+    const Transform* world_to_object = nullptr;
+    Transform moving_to_world, moving_to_object;
+    const MeshMotion* steps = nullptr;  // null: the mesh's own vertices
+    size_t k = 0;
+    float f = 0;
+
+    HitPlacement(const RenderScene& rs, const RayHit& hit) {
+        const Instance& inst = rs.scene().instances[hit.instance];
+        if (rs.accel().moving_transform(hit.instance, hit.time, &moving_to_world)) {
+            moving_to_object = inverse(moving_to_world);
+            object_to_world = &moving_to_world;
+            world_to_object = &moving_to_object;
+        } else {
+            object_to_world = &inst.object_to_world;
+            world_to_object = &rs.world_to_object(hit.instance);
+        }
+        if (rs.accel().mesh_deforms(inst.mesh)) {
+            steps = &rs.scene().motion.meshes[inst.mesh];
+            int step;
+            motion_segment(hit.time, rs.scene().motion.steps, &step, &f);
+            k = size_t(step);
+        }
+    }
+    // A per-vertex attribute (normals, tangents) at the barycentrics, at the hit's time. `which`
+    // picks the same array of a motion step.
+    Vec3 attribute(const std::vector<Vec3>& still, std::vector<std::vector<Vec3>> MeshMotion::*which,
+                   const uint32_t* idx, float b0, float b1, float b2) const {
+        if (!steps) return interpolate_vertices(still, idx, b0, b1, b2);
+        const auto& a = (steps->*which)[k];
+        const auto& b = (steps->*which)[k + 1];
+        return interpolate_vertices(a, idx, b0, b1, b2) * (1.0f - f) + interpolate_vertices(b, idx, b0, b1, b2) * f;
+    }
+};
+
 // Bound on the relative error of n floating-point operations (pbrt's gamma(n)), widened for
 // the instance transform applied to the vertices before interpolation.
 constexpr float k_position_error_scale = 32.0f * 0x1p-24f;
@@ -15,22 +55,23 @@ constexpr float k_position_error_scale = 32.0f * 0x1p-24f;
 // (tangent, bitangent = cross(normal, tangent) w, normal). `ns` and `ng` are on the same side;
 // the vertex normal before that flip is recovered from them. The result is kept at least slightly
 // above the geometric surface on ng's side: a normal map must not turn a surface inside out.
-Vec3 apply_normal_map(const RenderScene& rs, const TextureRef& ref, float scale, const Mesh& mesh, const Instance& inst,
-                      uint32_t instance, const uint32_t* idx, float b0, float b1, float b2,
+static Vec3 apply_normal_map(const RenderScene& rs, const TextureRef& ref, float scale, const Mesh& mesh,
+                      const HitPlacement& at, const uint32_t* idx, float b0, float b1, float b2,
                       const SurfaceAttributes& attr, const Vec3& ng, const Vec3& ns) {
     if (static_cast<size_t>(ref.texture) >= rs.scene().textures.size()) return ns;
-    Vec3 t = interpolate_vertices(mesh.tangents, idx, b0, b1, b2);
+    Vec3 t = at.attribute(mesh.tangents, &MeshMotion::tangents, idx, b0, b1, b2);
     float w = mesh.tangent_signs[idx[0]];
-    if (!inst.object_to_world.is_identity()) {
-        t = inst.object_to_world.vector(t);
-        if (inst.object_to_world.determinant() < 0.0f) w = -w;  // a mirroring placement flips handedness
+    const Transform& o2w = *at.object_to_world;
+    if (!o2w.is_identity()) {
+        t = o2w.vector(t);
+        if (o2w.determinant() < 0.0f) w = -w;  // a mirroring placement flips handedness
     }
     // The vertex normal's own orientation (before SurfaceHit flipped it to ng's side) decides the
     // bitangent's direction.
     Vec3 n = ns;
     if (!mesh.normals.empty()) {
-        Vec3 nv = interpolate_vertices(mesh.normals, idx, b0, b1, b2);
-        if (!inst.object_to_world.is_identity()) nv = rs.world_to_object(instance).normal_by_inverse(nv);
+        Vec3 nv = at.attribute(mesh.normals, &MeshMotion::normals, idx, b0, b1, b2);
+        if (!o2w.is_identity()) nv = at.world_to_object->normal_by_inverse(nv);
         if (dot(nv, n) < 0.0f) n = -n;
     }
     t = t - n * dot(n, t);
@@ -105,8 +146,9 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     s.b1 = b1;
     s.b2 = b2;
 
+    const HitPlacement at(rs, hit);
     Vec3 p0, p1, p2;
-    rs.accel().triangle_world(hit.instance, hit.prim, &p0, &p1, &p2);
+    rs.accel().triangle_world(hit.instance, hit.prim, &p0, &p1, &p2, hit.time);
     s.p = barycentric(p0, p1, p2, b0, b1, b2);
     s.p_error = (abs(p0 * b0) + abs(p1 * b1) + abs(p2 * b2)) * k_position_error_scale;
 
@@ -115,8 +157,8 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     s.ng = len > 0.0f ? c / len : Vec3(0, 0, 1);
 
     if (!mesh.normals.empty()) {
-        Vec3 n = interpolate_vertices(mesh.normals, idx, b0, b1, b2);
-        if (!inst.object_to_world.is_identity()) n = rs.world_to_object(hit.instance).normal_by_inverse(n);
+        Vec3 n = at.attribute(mesh.normals, &MeshMotion::normals, idx, b0, b1, b2);
+        if (!at.object_to_world->is_identity()) n = at.world_to_object->normal_by_inverse(n);
         float nl = length(n);
         if (nl > 0.0f && std::isfinite(nl)) {
             n = n / nl;
@@ -133,15 +175,15 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     const Material& mat = *s.material;
     Vec3 ns_vertex = s.ns;
     if (mat.normal_texture.valid() && has_tangents)
-        s.ns = apply_normal_map(rs, mat.normal_texture, mat.normal_scale, mesh, inst, hit.instance, idx, b0, b1, b2,
-                                s.attr, s.ng, s.ns);
+        s.ns = apply_normal_map(rs, mat.normal_texture, mat.normal_scale, mesh, at, idx, b0, b1, b2, s.attr, s.ng,
+                                s.ns);
     // KHR_materials_clearcoat: the coat has its own normal map, and without one it is *not*
     // normal-mapped like the base (the extension's wording): the vertex normal. Zero when the
     // coat's normal is the base's, so the BSDF keeps its untilted path.
     if (mat.clearcoat > 0.0f) {
         if (mat.clearcoat_normal_texture.valid() && has_tangents)
-            s.ns_coat = apply_normal_map(rs, mat.clearcoat_normal_texture, mat.clearcoat_normal_scale, mesh, inst,
-                                         hit.instance, idx, b0, b1, b2, s.attr, s.ng, ns_vertex);
+            s.ns_coat = apply_normal_map(rs, mat.clearcoat_normal_texture, mat.clearcoat_normal_scale, mesh, at, idx,
+                                         b0, b1, b2, s.attr, s.ng, ns_vertex);
         else if (mat.normal_texture.valid())
             s.ns_coat = ns_vertex;
     }

@@ -52,8 +52,8 @@ Light make_light(const PunctualLight& pl) {
 
 }  // namespace
 
-LightSet::LightSet(const Scene& scene, const Accel& accel) {
-    Bounds3 b = scene.bounds();
+LightSet::LightSet(const Scene& scene, const Accel& accel, const Bounds3* bounds) {
+    Bounds3 b = bounds ? *bounds : scene.bounds();
     m_ctx.scene = &scene;
     m_ctx.center = b.empty() ? Vec3() : b.center();
     m_ctx.radius = b.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(b.diagonal()));

@@ -27,7 +27,9 @@ using Light = std::variant<TriangleLight, PointLight, SpotLight, DirectionalLigh
 
 class LightSet {
 public:
-    LightSet(const Scene& scene, const Accel& accel);
+    // `bounds`: what the lights at infinity must cover (a moving object's whole path through the
+    // shutter); null is scene.bounds().
+    LightSet(const Scene& scene, const Accel& accel, const Bounds3* bounds = nullptr);
 
     bool empty() const { return m_lights.empty(); }
     size_t size() const { return m_lights.size(); }

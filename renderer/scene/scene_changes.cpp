@@ -11,6 +11,26 @@ bool same_bits(const Transform& a, const Transform& b) { return std::memcmp(a.m,
 
 bool same_bits(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
+bool same_bits(const std::vector<Transform>& a, const std::vector<Transform>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t k = 0; k < a.size(); ++k)
+        if (!same_bits(a[k], b[k])) return false;
+    return true;
+}
+
+bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0);
+}
+
+bool same_bits(const MeshMotion& a, const MeshMotion& b) {
+    if (a.positions.size() != b.positions.size()) return false;
+    for (size_t k = 0; k < a.positions.size(); ++k)
+        if (!same_bits(a.positions[k], b.positions[k]) || !same_bits(a.normals[k], b.normals[k]) ||
+            !same_bits(a.tangents[k], b.tangents[k]))
+            return false;
+    return true;
+}
+
 bool same_rgb(const Rgb& a, const Rgb& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
 
 // What pose_scene places of a light (the rest comes from the file and never changes).
@@ -40,19 +60,32 @@ ScenePose capture_pose(const Scene& scene) {
     for (const Instance& inst : scene.instances) p.instances.push_back(inst.object_to_world);
     for (const DeformingMesh& d : scene.animation.deforming) p.deforming.push_back(scene.meshes[d.mesh].positions);
     p.lights = scene.lights;
+    p.motion = scene.motion;
     return p;
 }
 
 SceneChanges changes_since(const ScenePose& before, const Scene& scene) {
     SceneChanges c;
+    // Motion steps count as the pose: an instance can keep its frame's transform while its
+    // path through the shutter changes.
+    static const std::vector<Transform> no_steps;
+    auto instance_steps = [](const SceneMotion& m, size_t i) -> const std::vector<Transform>& {
+        return i < m.instance_to_world.size() ? m.instance_to_world[i] : no_steps;
+    };
     for (size_t i = 0; i < scene.instances.size(); ++i)
-        if (i >= before.instances.size() || !same_bits(before.instances[i], scene.instances[i].object_to_world))
+        if (i >= before.instances.size() || !same_bits(before.instances[i], scene.instances[i].object_to_world) ||
+            !same_bits(instance_steps(before.motion, i), instance_steps(scene.motion, i)))
             c.moved_instances.push_back(uint32_t(i));
+    static const MeshMotion no_mesh_steps;
+    auto mesh_steps = [](const SceneMotion& m, size_t j) -> const MeshMotion& {
+        return j < m.meshes.size() ? m.meshes[j] : no_mesh_steps;
+    };
     const auto& deforming = scene.animation.deforming;
     for (size_t k = 0; k < deforming.size(); ++k) {
         const std::vector<Vec3>& now = scene.meshes[deforming[k].mesh].positions;
         if (k >= before.deforming.size() || before.deforming[k].size() != now.size() ||
-            (!now.empty() && std::memcmp(before.deforming[k].data(), now.data(), now.size() * sizeof(Vec3)) != 0))
+            (!now.empty() && std::memcmp(before.deforming[k].data(), now.data(), now.size() * sizeof(Vec3)) != 0) ||
+            !same_bits(mesh_steps(before.motion, deforming[k].mesh), mesh_steps(scene.motion, deforming[k].mesh)))
             c.deformed_meshes.push_back(deforming[k].mesh);
     }
     std::sort(c.deformed_meshes.begin(), c.deformed_meshes.end());

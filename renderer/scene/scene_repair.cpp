@@ -281,6 +281,8 @@ Vec3 rebase_scene(Scene& scene) {
     for (Camera& cam : scene.cameras) shift(cam.camera_to_world);
     for (auto& steps : scene.motion.camera_to_world)
         for (Transform& t : steps) shift(t);
+    for (auto& steps : scene.motion.instance_to_world)
+        for (Transform& t : steps) shift(t);
     for (PunctualLight& l : scene.lights)
         for (int r = 0; r < 3; ++r) l.position[r] = float(double(l.position[r]) - double(offset[r]));
     return offset;

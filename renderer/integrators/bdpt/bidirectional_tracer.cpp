@@ -485,6 +485,7 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
                     rh.prim = y.prim;
                     rh.u = y.b1;
                     rh.v = y.b2;
+                    rh.time = m_time;  // where the subpath found it
                     fill_surface_vertex(m_rs, rh, normalize(y.p - ws.light[s - 2].p), &seen,
                                         m_camera->footprint_width(std::sqrt(dist2), w));
                     seen.delta = y.delta;
