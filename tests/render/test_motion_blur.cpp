@@ -436,6 +436,32 @@ TEST(MotionBlur, ObjectsStillDuringTheShutterRenderBitForBitAsWithoutOne) {
     }
 }
 
+TEST(MotionBlur, EmittersStayAtTheFramesPose) {
+    // By decision (scene_motion.h): a moving emitter is not blurred, so that light sampling, built
+    // from the frame's pose, meets it where rays do. The camera pan's emissive strip, made to
+    // slide instead of the camera, renders with a shutter as it does without one.
+    GltfBuilder b = pan_scene(true, false, 1);
+    int input = b.accessor(std::vector<float>{0, 1}, k_float, "SCALAR");
+    int output = b.accessor(std::vector<float>{0, 0, 0, -1, 0, 0}, k_float, "VEC3");
+    b.doc["animations"] = json::array();  // the camera stands; the strip (node 0) slides -X
+    b.push("animations", {{"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
+                          {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "LINEAR"}}}}});
+    Scene blurred = posed(b, 0.55, -0.25, 0.25);
+    ASSERT_TRUE(blurred.motion.enabled());
+    EXPECT_FALSE(blurred.motion.instance_moves(0));
+    EXPECT_TRUE(blurred.motion.camera_to_world[0].empty());
+    Scene sharp = posed(b, 0.55, 0, 0);
+    for (const char* integrator : {"pt", "bdpt"}) {
+        Image a = test::render(blurred, 32, 8, integrator, 4, 0, 7, nullptr, -1, -1, 16);
+        Image c = test::render(sharp, 32, 8, integrator, 4, 0, 7, nullptr, -1, -1, 16);
+        ASSERT_EQ(a.rgba.size(), c.rgba.size());
+        EXPECT_EQ(std::memcmp(a.rgba.data(), c.rgba.data(), a.rgba.size() * sizeof(float)), 0) << integrator;
+        // The strip, where it stands at 0.55 s (x in [-1.55, -0.55]: film columns 3.6 to 11.6), is sharp.
+        EXPECT_NEAR(pixel_mean(a, 8, 8), 1.0, 1e-5) << integrator;
+        EXPECT_NEAR(pixel_mean(a, 14, 8), 0.0, 1e-5) << integrator;
+    }
+}
+
 TEST(MotionBlur, CameraInterpolationSlerpsTheOrientation) {
     // Steps a (looking down -Z) and b (turned 90 degrees about +Y: looking down -X); halfway it
     // looks along the diagonal, and the position moves linearly.

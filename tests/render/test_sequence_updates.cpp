@@ -12,6 +12,7 @@
 #include "render_helpers.h"
 #include "scene/scene_animation.h"
 #include "scene/scene_changes.h"
+#include "scene/scene_motion.h"
 
 namespace veach {
 namespace {
@@ -120,6 +121,37 @@ TEST(SequenceUpdates, EveryFrameOfAReposedSceneEqualsAFreshLoadOfThatFrame) {
             EXPECT_TRUE(identical(updated, fresh)) << "t = " << t << (lights ? " with moving lights" : "");
             EXPECT_FALSE(identical(updated, first)) << "t = " << t << ": nothing moved in the image";
         }
+    }
+}
+
+TEST(SequenceUpdates, AMotionBlurredSequenceEqualsAFreshLoadOfEachFrame) {
+    // With a shutter, each frame's motion steps are part of its pose: an update sets the moved
+    // instances' time steps and the deformed meshes' step buffers. Past the last key (t = 2) the
+    // steps vanish (nothing moves during the shutter) and come back at t = 0.5: the number of
+    // time steps changes in place both ways.
+    const double open = -0.1, close = 0.1;
+    auto blurred_at = [&](const GltfBuilder& b, double t) {
+        Scene s = load_at(b, t);
+        capture_motion(s, t, open, close);
+        return s;
+    };
+    const GltfBuilder b = sequence_scene(true);
+    Scene s = blurred_at(b, 0.3);
+    ASSERT_TRUE(s.motion.enabled());
+    PreparedSceneCache cache;
+    Image first = render_scene(s, options(), {}, &cache).image;
+    EXPECT_TRUE(identical(first, render_scene(blurred_at(b, 0.3), options()).image));
+    for (double t : {0.6, 2.0, 0.5, 0.95}) {
+        const ScenePose before = capture_pose(s);
+        pose_scene(s, t);
+        capture_motion(s, t, open, close);
+        const SceneChanges changes = changes_since(before, s);
+        EXPECT_FALSE(changes.moved_instances.empty()) << t;
+        cache.note(changes);
+        Image updated = render_scene(s, options(), {}, &cache).image;
+        Image fresh = render_scene(blurred_at(b, t), options()).image;
+        EXPECT_TRUE(identical(updated, fresh)) << "t = " << t;
+        EXPECT_EQ(s.motion.mesh_deforms(s.animation.deforming[0].mesh), t < 1.0) << t;
     }
 }
 
