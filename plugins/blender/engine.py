@@ -8,6 +8,7 @@
 # a cancel. Pixels come back scene-linear and go into the RenderResult untouched: Blender's
 # colour management then applies the user's view transform. What the export could not carry, and
 # the library's own scene warnings, are reported through self.report, one WARNING per kind.
+import math
 import os
 import tempfile
 
@@ -84,8 +85,13 @@ class VeachRenderEngine(bpy.types.RenderEngine):
             with tempfile.TemporaryDirectory(prefix="veach_blender_") as tmp:
                 self.update_stats("", "Veach | Exporting the scene")
                 path = os.path.join(tmp, "frame.gltf")
-                export = gltf_export.export_frame_gltf(depsgraph, path, width, height)
+                motion = self.motion_steps(depsgraph, scene) if scene.render.use_motion_blur else None
+                export = gltf_export.export_frame_gltf(depsgraph, path, width, height, motion)
                 options = {"spot_falloff": "blender", "default_material": "blender", "allow_external_files": 1}
+                if export.motion:
+                    # The exported frame is time 0 of its motion animation; the shutter in seconds.
+                    options["time"] = 0.0
+                    options["shutter"] = "%r,%r" % (motion[0][0], motion[0][-1])
                 options.update(world.environment_options(scene.world, export, tmp))
                 for message in export.warnings.values():
                     self.report({"WARNING"}, f"Veach: {message}")
@@ -96,6 +102,28 @@ class VeachRenderEngine(bpy.types.RenderEngine):
         except Exception as e:  # a failed render must not take Blender down: report it
             last_status = f"failed: {e}"
             self.report({"ERROR"}, f"Veach: {e}")
+
+    def motion_steps(self, depsgraph, scene):
+        """Motion blur's steps: the depsgraph evaluated at the shutter's open, middle and close
+        (Blender's Motion Blur shutter, in frames, placed by Cycles' Position), each step's world
+        matrices of meshes and the camera (gltf_export.world_matrices), and the times in seconds
+        from the frame; the depsgraph is left at the frame. Deformation within the shutter is not
+        carried: each mesh keeps the frame's shape and moves with its object."""
+        shutter = scene.render.motion_blur_shutter
+        position = getattr(getattr(scene, "cycles", None), "motion_blur_position", "CENTER")
+        open_, close = {"START": (0.0, shutter), "END": (-shutter, 0.0)}.get(position, (-shutter / 2, shutter / 2))
+        frame, subframe = scene.frame_current, scene.frame_subframe
+        seconds_per_frame = scene.render.fps_base / scene.render.fps
+        times, steps = [], []
+        for k in range(3):
+            offset = open_ + (close - open_) * k / 2
+            at = frame + subframe + offset
+            whole = math.floor(at)
+            self.frame_set(int(whole), at - whole)
+            steps.append(gltf_export.world_matrices(depsgraph))
+            times.append(offset * seconds_per_frame)
+        self.frame_set(frame, subframe)
+        return times, steps
 
     def render_scene(self, scene, view_layer, path, scene_options, export, width, height):
         prefs = addon_preferences(bpy.context)

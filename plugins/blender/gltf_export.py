@@ -39,6 +39,7 @@ class Export:
     def __init__(self):
         self.gltf = None
         self.camera_name = None
+        self.motion = False  # motion blur: something moves across the shutter (add_motion)
         self.warnings = {}  # kind -> message, first occurrence wins
 
     def warn(self, kind, message):
@@ -93,6 +94,96 @@ def frame_matrix(m):
         if length > 0:
             g[:3, c] /= length
     return g
+
+
+def motion_key(instance):
+    """What names one object instance across the depsgraph's re-evaluations within a shutter."""
+    return (instance.object.name, instance.is_instance,
+            tuple(instance.persistent_id) if instance.is_instance else ())
+
+
+def world_matrices(depsgraph):
+    """Per object instance (motion_key) its world matrix in glTF space as the depsgraph stands:
+    one motion blur step. Meshes and cameras only: lights, like emitters, are not blurred."""
+    out = {}
+    for instance in depsgraph.object_instances:
+        obj = instance.object
+        if obj.type in GEOMETRY_TYPES:
+            out[motion_key(instance)] = object_matrix(matrix_array(instance.matrix_world))
+        elif obj.type == "CAMERA":
+            out[motion_key(instance)] = frame_matrix(matrix_array(instance.matrix_world))
+    return out
+
+
+def quaternion_of(r):
+    """(x, y, z, w) of the rotation matrix r (Shepperd's method: the largest diagonal term)."""
+    t = np.trace(r)
+    if t > 0:
+        s = 2 * np.sqrt(1 + t)
+        q = [(r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, s / 4]
+    elif r[0, 0] > r[1, 1] and r[0, 0] > r[2, 2]:
+        s = 2 * np.sqrt(max(0.0, 1 + r[0, 0] - r[1, 1] - r[2, 2]))
+        q = [s / 4, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s, (r[2, 1] - r[1, 2]) / s]
+    elif r[1, 1] > r[2, 2]:
+        s = 2 * np.sqrt(max(0.0, 1 + r[1, 1] - r[0, 0] - r[2, 2]))
+        q = [(r[0, 1] + r[1, 0]) / s, s / 4, (r[1, 2] + r[2, 1]) / s, (r[0, 2] - r[2, 0]) / s]
+    else:
+        s = 2 * np.sqrt(max(0.0, 1 + r[2, 2] - r[0, 0] - r[1, 1]))
+        q = [(r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4, (r[1, 0] - r[0, 1]) / s]
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+def trs_of(m):
+    """glTF's translation, rotation and scale of a 4x4 matrix (shear, which TRS cannot hold, is
+    dropped); None for a singular one."""
+    linear = m[:3, :3]
+    scale = np.linalg.norm(linear, axis=0)
+    if not np.all(scale > 1e-12):
+        return None
+    if np.linalg.det(linear) < 0:
+        scale[0] = -scale[0]
+    return m[:3, 3].copy(), quaternion_of(linear / scale), scale
+
+
+def add_motion(gltf, writer, node_keys, motion):
+    """Animations that move each node whose world matrix changes across the shutter: its
+    matrix becomes TRS keyed at the steps' times (seconds from the frame, LINEAR: the renderer
+    slerps the rotation), which the renderer poses at time 0, the frame, and samples across the
+    shutter. `motion`: (times, steps), steps[k] from world_matrices."""
+    times, steps = motion
+    channels, samplers = [], []
+    for node_index, key in node_keys:
+        mats = [step.get(key) for step in steps]
+        if any(m is None for m in mats) or all(np.array_equal(m, mats[0]) for m in mats):
+            continue  # appears or vanishes within the shutter, or still: as at the frame
+        parts = [trs_of(m) for m in mats]
+        if any(p is None for p in parts):
+            continue
+        for k in range(1, len(parts)):  # each rotation on the side of the one before: shorter arcs
+            if np.dot(parts[k][1], parts[k - 1][1]) < 0:
+                parts[k] = (parts[k][0], -parts[k][1], parts[k][2])
+        node = gltf["nodes"][node_index]
+        frame = trs_of(node_matrix(node))
+        if frame is None:
+            continue
+        del node["matrix"]
+        node["translation"], node["rotation"], node["scale"] = (
+            [float(x) for x in v] for v in frame)
+        if not hasattr(writer, "motion_input"):
+            writer.motion_input = writer.add(np.array(times, dtype=np.float32).reshape(-1, 1), 5126, "SCALAR",
+                                             bounds=True)
+        for path, index, kind in (("translation", 0, "VEC3"), ("rotation", 1, "VEC4"), ("scale", 2, "VEC3")):
+            output = writer.add(np.array([p[index] for p in parts], dtype=np.float32), 5126, kind)
+            samplers.append({"input": writer.motion_input, "output": output, "interpolation": "LINEAR"})
+            channels.append({"sampler": len(samplers) - 1, "target": {"node": node_index, "path": path}})
+    if channels:
+        gltf["animations"] = [{"name": "motion blur", "channels": channels, "samplers": samplers}]
+    return bool(channels)
+
+
+def node_matrix(node):
+    return np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T
 
 
 def mesh_arrays(mesh):
@@ -212,9 +303,10 @@ def light_entry(light, export):
     return entry
 
 
-def export_frame_gltf(depsgraph, path, width=None, height=None):
+def export_frame_gltf(depsgraph, path, width=None, height=None, motion=None):
     """Writes the depsgraph's scene at its frame to path (.gltf) and path's .bin beside it;
-    returns an Export. width and height (the render's) set the camera's aspect ratio."""
+    returns an Export. width and height (the render's) set the camera's aspect ratio. motion:
+    (times, steps) for motion blur (add_motion); Export.motion says whether anything moves."""
     export = Export()
     scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
     if width is None or height is None:
@@ -235,6 +327,7 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
         roots.append(len(gltf["nodes"]) - 1)
 
     camera_object = scene.camera
+    node_keys = []  # (node index, motion_key) of meshes and the camera, for motion blur
     for instance in depsgraph.object_instances:
         obj = instance.object
         if not instance.is_instance and not getattr(instance, "show_self", True):
@@ -253,6 +346,7 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
                 meshes[key] = mesh_for_object(obj, writer, gltf, converter, export)
             if meshes[key] is not None:
                 add_node({"name": obj.name, "mesh": meshes[key], "matrix": column_major(object_matrix(world))})
+                node_keys.append((len(gltf["nodes"]) - 1, motion_key(instance)))
         elif obj.type == "LIGHT":
             entry = light_entry(obj.data, export)
             if entry is not None:
@@ -273,6 +367,7 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
                 export.camera_name = obj.name
                 add_node({"name": obj.name, "camera": len(gltf["cameras"]) - 1,
                           "matrix": column_major(frame_matrix(world))})
+                node_keys.append((len(gltf["nodes"]) - 1, motion_key(instance)))
         elif obj.type in ("CURVES", "HAIR"):
             export.warn("hair", "hair curves are not carried over (dropped)")
         elif obj.type == "VOLUME":
@@ -283,8 +378,8 @@ def export_frame_gltf(depsgraph, path, width=None, height=None):
             export.warn("hair", "hair particles are not carried over (dropped)")
     if camera_object is None:
         export.warn("camera", "the scene has no camera")
-    if scene.render.use_motion_blur:
-        export.warn("motion blur", "motion blur is not carried over (each frame renders at its instant)")
+    if motion is not None:
+        export.motion = add_motion(gltf, writer, node_keys, motion)
     if lights:
         gltf["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
         gltf["extensionsUsed"].append("KHR_lights_punctual")
