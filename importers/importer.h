@@ -31,6 +31,23 @@ enum class DefaultMaterial : uint8_t {
     Blender,  // Cycles' default surface: Lambertian, albedo 0.8 (what Blender shows and its importer makes)
 };
 
+// The options' names, as front ends spell them (and the scene identity hashes them).
+inline const char* spot_profile_name(SpotProfile p) {
+    switch (p) {
+        case SpotProfile::Blender: return "blender";
+        case SpotProfile::Gltf: return "gltf";
+        default: return "auto";
+    }
+}
+
+inline const char* default_material_name(DefaultMaterial m) {
+    switch (m) {
+        case DefaultMaterial::Blender: return "blender";
+        case DefaultMaterial::Gltf: return "gltf";
+        default: return "auto";
+    }
+}
+
 struct ImportOptions {
     int scene_index = -1;  // -1: the file's default scene (or the first)
     std::string variant;   // KHR_materials_variants name, empty = default materials
@@ -45,7 +62,9 @@ struct ImportOptions {
     std::string animation = "all";
 };
 
-// Loads a file by its extension (case-insensitive). Throws ImportError on bad input.
+// Loads a file by its extension (case-insensitive), as the file has it: the repairs and the rest
+// of the pipeline are the scene load's (renderer/load/scene_load.h). Throws ImportError on bad
+// input.
 Scene import_scene(const std::string& path, const ImportOptions& options = {});
 
 // Loads a scene held in memory (e.g. a .glb a host application produced); `format` is an

@@ -4,7 +4,6 @@
 
 #include "importers/gltf/gltf_importer.h"
 #include "importers/importer.h"
-#include "scene/scene_repair.h"
 
 namespace veach {
 namespace {
@@ -24,23 +23,15 @@ std::vector<std::string> registered_scene_formats() { return {"gltf", "glb"}; }
 
 Scene import_scene(const std::string& path, const ImportOptions& options) {
     std::string ext = lower_extension(path);
-    if (ext == "gltf" || ext == "glb") {
-        // Every format's scene is repaired once, here, before anything is built from it.
-        Scene scene = import_gltf_file(path, options);
-        repair_scene(scene);
-        return scene;
-    }
+    if (ext == "gltf" || ext == "glb") return import_gltf_file(path, options);
     throw ImportError(path + ": unknown scene format '" + ext + "' (known: .gltf, .glb)");
 }
 
 Scene import_scene_from_memory(const std::vector<uint8_t>& bytes, const std::string& format,
                                const std::string& base_dir, const ImportOptions& options) {
     std::string ext = lower_extension("x." + format);
-    if (ext == "gltf" || ext == "glb") {
-        Scene scene = import_gltf_memory(bytes, base_dir, "<memory>." + ext, ext == "glb", options);
-        repair_scene(scene);
-        return scene;
-    }
+    if (ext == "gltf" || ext == "glb")
+        return import_gltf_memory(bytes, base_dir, "<memory>." + ext, ext == "glb", options);
     throw ImportError("<memory>: unknown scene format '" + format + "' (known: gltf, glb)");
 }
 

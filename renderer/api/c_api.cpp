@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
-#include "api/render_job.h"
+#include "job/render_job.h"
 #include "film/film_checkpoint.h"
 #include "film/film_part.h"
 #include "importers/importer.h"

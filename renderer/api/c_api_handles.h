@@ -11,10 +11,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "api/environment_options.h"
-#include "api/render_job.h"
-#include "importers/importer.h"
 #include "integrators/prepared_scene.h"
+#include "job/render_job.h"
+#include "load/scene_load.h"
 #include "output/image_output.h"
 #include "scene/scene.h"
 #include "veach/veach.h"
@@ -49,27 +48,20 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     // a re-pose at another time (m_renders_running).
     std::mutex m_mutex;
     std::atomic<bool> m_loaded{false};
-    veach::ImportOptions m_import;
-    veach::EnvironmentOptions m_environment;
+    veach::SceneLoadOptions m_options;
     std::string m_env_color;  // the env_color option as given ("R,G,B"), for reading back
+    std::string m_shutter;    // the shutter option as given ("OPEN,CLOSE")
     std::string m_source;     // the file loaded, "" for a scene from memory
-    double m_time = 0;        // seconds, the scene's animation evaluated there (m_import.animate)
-    // Motion blur: the shutter in seconds relative to m_time (open < close), and the option as given.
-    double m_shutter_open = 0, m_shutter_close = 0;
-    std::string m_shutter;
     // After the load, a scene imported with a time may be posed again at another (the scene
     // option "time"): never while a render of it runs. Renders count themselves here, under
     // m_mutex, which the re-pose holds throughout.
     int m_renders_running = 0;
-    uint64_t m_file_hash = 0;     // the import's content hash, for m_content_hash after a re-pose
-    uint64_t m_env_map_hash = 0;  // the environment map's content, hashed once at the load
-    // Identifies the scene's content and every scene option for checkpoints: a checkpoint of
-    // another file, variant or environment is refused.
-    uint64_t m_content_hash = 0;
-    veach::Scene m_scene;
-    // The BVH and light tables of m_scene, built by its first render and kept: a re-pose notes
-    // what it changed here, and the next render updates only that (docs/ARCHITECTURE.md
-    // "Animation"). Declared after m_scene, which it refers to, so that it goes first.
+    // The scene and its identity (LoadedScene::identity: a checkpoint of another file, variant or
+    // environment is refused).
+    veach::LoadedScene m_load;
+    // The BVH and light tables of m_load.scene, built by its first render and kept: a re-pose
+    // notes what it changed here, and the next render updates only that (docs/ARCHITECTURE.md
+    // "Animation"). Declared after m_load, which it refers to, so that it goes first.
     veach::PreparedSceneCache m_prepared;
     ~VeachSceneImpl();
 };

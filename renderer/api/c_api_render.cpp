@@ -50,7 +50,7 @@ VeachError VeachRenderImpl::run() {
     {
         std::lock_guard<std::mutex> lock(m_mutex);
         job = m_job;
-        job.checkpoint.scene_hash = m_scene->m_content_hash;
+        job.checkpoint.scene_hash = m_scene->m_load.identity;
         progress_fn = m_progress_fn;
         progress_user = m_progress_user;
         m_failure = VEACH_ERROR_NONE;
@@ -72,7 +72,7 @@ VeachError VeachRenderImpl::run() {
     VeachStatus status = VEACH_STATUS_DONE;
     try {
         auto result = std::make_shared<veach::RenderResult>(
-            veach::render_scene(m_scene->m_scene, job, control, &m_scene->m_prepared));
+            veach::render_scene(m_scene->m_load.scene, job, control, &m_scene->m_prepared));
         // A time limit shorter than the first pass leaves no image at all: an error, never an
         // empty image presented as the render.
         if (result->stats.spp_done == 0 && !result->stats.cancelled && job.render.time_limit > 0) {
@@ -422,7 +422,7 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
             veach::make_integrator(probe);  // throws invalid_argument naming the known ones
             render->m_job.render.integrator = v;
         } else if (n == "camera") {
-            veach::select_camera(render->m_scene->m_scene, v);  // throws naming the scene's cameras
+            veach::select_camera(render->m_scene->m_load.scene, v);  // throws naming the scene's cameras
             render->m_job.camera = v;
         } else if (n == "filter") {
             if (!veach::parse_filter_name(v, &render->m_job.film.filter.type))

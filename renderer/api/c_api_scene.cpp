@@ -1,5 +1,6 @@
 // The C API's scenes: options that shape a scene before it is loaded (glTF scene index, variant,
-// spot profile, default material, environment), the one load, and what the load found (triangles, repairs,
+// spot profile, default material, environment, time, shutter) parsed into SceneLoadOptions, the
+// load and re-pose (load/scene_load.h does both), and what the load found (triangles, repairs,
 // features, warnings).
 //
 // Why the options belong to the scene and not to a render: a scene is imported once and shared
@@ -13,10 +14,6 @@
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
-#include "core/content_hash.h"
-#include "film/film_checkpoint.h"
-#include "scene/scene_changes.h"
-#include "scene/scene_repair.h"
 
 using veach::capi::ApiError;
 using veach::capi::guarded;
@@ -92,83 +89,13 @@ void parse_shutter(const std::string& v, double* open, double* close) {
     *close = x[1];
 }
 
-const char* spot_name(veach::SpotProfile p) {
-    switch (p) {
-        case veach::SpotProfile::Blender: return "blender";
-        case veach::SpotProfile::Gltf: return "gltf";
-        default: return "auto";
-    }
-}
-
-const char* default_material_name(veach::DefaultMaterial m) {
-    switch (m) {
-        case veach::DefaultMaterial::Blender: return "blender";
-        case veach::DefaultMaterial::Gltf: return "gltf";
-        default: return "auto";
-    }
-}
-
-// Every scene option, and the environment map's content (never its path), for the identity of
-// checkpoints and part files (core/content_hash.h).
-uint64_t environment_map_hash(const VeachSceneImpl& s) {
-    const veach::EnvironmentOptions& env = s.m_environment;
-    uint64_t map = veach::k_fnv_offset;
-    if (!env.map_path.empty() && !veach::hash_file_content(env.map_path, &map))
-        throw ApiError{VEACH_ERROR_BAD_INPUT, env.map_path + ": cannot read the environment map"};
-    return map;
-}
-
-uint64_t scene_options_hash(const VeachSceneImpl& s, uint64_t content_hash, uint64_t map) {
-    const veach::EnvironmentOptions& env = s.m_environment;
-    veach::HashKey key("veach-scene-v2");
-    key.field("content", content_hash)
-        .field("scene", s.m_import.scene_index)
-        .field("variant", s.m_import.variant)
-        .field("spot", spot_name(s.m_import.spot_profile))
-        .field("default_material", default_material_name(s.m_import.default_material))
-        .field("env_map", !env.map_path.empty())
-        .field("env_has_color", env.has_color)
-        .field("env_r", env.color.r)
-        .field("env_g", env.color.g)
-        .field("env_b", env.color.b)
-        .field("env_strength", env.strength)
-        .field("env_rotate", env.rotate_degrees);
-    // Only a posed scene names its time: an unanimated one keeps the identity it always had.
-    if (s.m_import.animate) key.field("time", s.m_time).field("animation", s.m_import.animation);
-    // Likewise only a motion-blurred scene names its shutter.
-    if (s.m_shutter_close > s.m_shutter_open)
-        key.field("shutter_open", s.m_shutter_open).field("shutter_close", s.m_shutter_close);
-    key.field("env_map_content", map);
-    return key.value();
-}
-
-// What every front end does after importing, so that they all render the same image: the
-// requested environment, then a white world for a scene with no light at all (after the
-// environment: an explicit one wins), then a far-off scene moved to the origin (scene_repair.h).
-void finish_load(VeachSceneImpl* s, veach::Scene&& scene, uint64_t content_hash) {
-    try {
-        veach::apply_environment(s->m_environment, &scene);
-    } catch (const std::invalid_argument& e) {
-        throw ApiError{VEACH_ERROR_BAD_INPUT, e.what()};  // "FILE: fault": an unreadable map
-    }
-    veach::pose_scene(scene, s->m_time);  // a scene imported without animation stays as it is
-    veach::capture_motion(scene, s->m_time, s->m_shutter_open, s->m_shutter_close);
-    veach::light_unlit_scene(scene);
-    veach::rebase_scene(scene);
-    s->m_scene = std::move(scene);
-    s->m_file_hash = content_hash;
-    s->m_env_map_hash = environment_map_hash(*s);
-    s->m_content_hash = scene_options_hash(*s, content_hash, s->m_env_map_hash);
-    s->m_loaded = true;
-}
-
 template <class Load>
 VeachError load(VeachScene scene, const char* function, Load&& body) {
     check_scene(scene, function);
     std::lock_guard<std::mutex> lock(scene->m_mutex);
     check_not_loaded(scene, function);
     // Before the import spends its time.
-    if (scene->m_shutter_close > scene->m_shutter_open && !scene->m_import.animate)
+    if (scene->m_options.motion_blur() && !scene->m_options.import.animate)
         throw ApiError{VEACH_ERROR_INVALID_OPERATION,
                        std::string(function) + ": scene option 'shutter' needs 'time' (motion blur is the animation "
                                                "across the shutter)"};
@@ -179,12 +106,9 @@ VeachError load(VeachScene scene, const char* function, Load&& body) {
 VeachError load_file(VeachScene scene, const char* path) {
     return load(scene, "veachLoadSceneFile", [&] {
         if (!path || !*path) throw invalid("veachLoadSceneFile: empty path");
-        veach::Scene imported = veach::import_scene(path, scene->m_import);
-        // The bytes of every file the import read, never the path: a checkpoint or part resumes
-        // or merges the same content reached through another folder or mount.
-        const uint64_t h = imported.content_hash;
+        scene->m_load = veach::load_scene_file(path, scene->m_options);
         scene->m_source = path;
-        finish_load(scene, std::move(imported), h);
+        scene->m_loaded = true;
     });
 }
 
@@ -195,9 +119,8 @@ VeachError load_memory(VeachScene scene, const void* data, size_t size, const ch
         const auto* bytes = static_cast<const uint8_t*>(data);
         std::vector<uint8_t> copy(bytes, bytes + size);
         std::string base = base_dir ? base_dir : "";
-        veach::Scene imported = veach::import_scene_from_memory(copy, format, base, scene->m_import);
-        const uint64_t h = imported.content_hash;
-        finish_load(scene, std::move(imported), h);
+        scene->m_load = veach::load_scene_memory(copy, format, base, scene->m_options);
+        scene->m_loaded = true;
     });
 }
 
@@ -273,10 +196,10 @@ VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long l
         if (n == "scene_index") {
             if (value < -1 || value > std::numeric_limits<int>::max())
                 throw invalid("scene option 'scene_index' must be -1 (the file's default) or a scene index");
-            scene->m_import.scene_index = static_cast<int>(value);
+            scene->m_options.import.scene_index = static_cast<int>(value);
         } else if (n == "allow_external_files") {
             if (value != 0 && value != 1) throw invalid("scene option 'allow_external_files' must be 0 or 1");
-            scene->m_import.allow_external_files = value == 1;
+            scene->m_options.import.allow_external_files = value == 1;
         }
         return VEACH_ERROR_NONE;
     });
@@ -292,24 +215,19 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
         if (n == "time" && scene->m_loaded) {
             // A sequence: the loaded scene posed at another time, its file never read again.
             if (std::abs(value) > 1e9) throw invalid("scene option 'time' must be in [-1e9, 1e9] seconds");
-            if (!scene->m_import.animate)
+            if (!scene->m_options.import.animate)
                 throw ApiError{VEACH_ERROR_INVALID_OPERATION,
                                "veachSetSceneFloat: the scene was loaded without a time; set 'time' before the load "
                                "to pose it at other times"};
             if (scene->m_renders_running > 0)
                 throw ApiError{VEACH_ERROR_INVALID_OPERATION,
                                "veachSetSceneFloat: a render of this scene is running; set 'time' once it is done"};
-            const double before = scene->m_time;
-            scene->m_time = value;
+            const double before = scene->m_options.time;
+            scene->m_options.time = value;
             try {
-                const veach::ScenePose before = veach::capture_pose(scene->m_scene);
-                veach::pose_scene(scene->m_scene, value);
-                veach::capture_motion(scene->m_scene, value, scene->m_shutter_open, scene->m_shutter_close);
-                veach::rebase_scene(scene->m_scene);
-                scene->m_prepared.note(veach::changes_since(before, scene->m_scene));
-                scene->m_content_hash = scene_options_hash(*scene, scene->m_file_hash, scene->m_env_map_hash);
+                scene->m_prepared.note(veach::repose_scene(scene->m_load, scene->m_options));
             } catch (...) {
-                scene->m_time = before;
+                scene->m_options.time = before;
                 throw;
             }
             return VEACH_ERROR_NONE;
@@ -317,14 +235,14 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
         check_not_loaded(scene, "veachSetSceneFloat");
         if (n == "env_strength") {
             if (value < 0 || value > 1e30) throw invalid("scene option 'env_strength' must be in [0, 1e30]");
-            scene->m_environment.strength = static_cast<float>(value);
+            scene->m_options.environment.strength = static_cast<float>(value);
         } else if (n == "env_rotate") {
             if (std::abs(value) > 1e6) throw invalid("scene option 'env_rotate' must be in [-1e6, 1e6] degrees");
-            scene->m_environment.rotate_degrees = static_cast<float>(value);
+            scene->m_options.environment.rotate_degrees = static_cast<float>(value);
         } else if (n == "time") {
             if (std::abs(value) > 1e9) throw invalid("scene option 'time' must be in [-1e9, 1e9] seconds");
-            scene->m_import.animate = true;
-            scene->m_time = value;
+            scene->m_options.import.animate = true;
+            scene->m_options.time = value;
         }
         return VEACH_ERROR_NONE;
     });
@@ -338,25 +256,25 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
         if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
         check_not_loaded(scene, "veachSetSceneString");
-        veach::EnvironmentOptions& env = scene->m_environment;
+        veach::EnvironmentOptions& env = scene->m_options.environment;
         if (n == "variant")
-            scene->m_import.variant = v;
+            scene->m_options.import.variant = v;
         else if (n == "spot_falloff") {
             if (v == "auto")
-                scene->m_import.spot_profile = veach::SpotProfile::Auto;
+                scene->m_options.import.spot_profile = veach::SpotProfile::Auto;
             else if (v == "blender")
-                scene->m_import.spot_profile = veach::SpotProfile::Blender;
+                scene->m_options.import.spot_profile = veach::SpotProfile::Blender;
             else if (v == "gltf")
-                scene->m_import.spot_profile = veach::SpotProfile::Gltf;
+                scene->m_options.import.spot_profile = veach::SpotProfile::Gltf;
             else
                 throw invalid("scene option 'spot_falloff' expects auto, blender or gltf, not '" + v + "'");
         } else if (n == "default_material") {
             if (v == "auto")
-                scene->m_import.default_material = veach::DefaultMaterial::Auto;
+                scene->m_options.import.default_material = veach::DefaultMaterial::Auto;
             else if (v == "blender")
-                scene->m_import.default_material = veach::DefaultMaterial::Blender;
+                scene->m_options.import.default_material = veach::DefaultMaterial::Blender;
             else if (v == "gltf")
-                scene->m_import.default_material = veach::DefaultMaterial::Gltf;
+                scene->m_options.import.default_material = veach::DefaultMaterial::Gltf;
             else
                 throw invalid("scene option 'default_material' expects auto, blender or gltf, not '" + v + "'");
         } else if (n == "env_map") {
@@ -374,12 +292,12 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
             }
             scene->m_env_color = v;
         } else if (n == "animation") {
-            scene->m_import.animation = v.empty() ? "all" : v;  // checked against the file by the load
+            scene->m_options.import.animation = v.empty() ? "all" : v;  // checked against the file by the load
         } else if (n == "shutter") {
             double open = 0, close = 0;
             if (!v.empty()) parse_shutter(v, &open, &close);
-            scene->m_shutter_open = open;
-            scene->m_shutter_close = close;
+            scene->m_options.shutter_open = open;
+            scene->m_options.shutter_close = close;
             scene->m_shutter = v;
         }
         return VEACH_ERROR_NONE;
@@ -394,12 +312,12 @@ VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long l
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
         if (n == "scene_index")
-            *value = scene->m_import.scene_index;
+            *value = scene->m_options.import.scene_index;
         else if (n == "allow_external_files")
-            *value = scene->m_import.allow_external_files ? 1 : 0;
+            *value = scene->m_options.import.allow_external_files ? 1 : 0;
         else {
             check_loaded(scene, "veachGetSceneInt");
-            const veach::Scene& s = scene->m_scene;
+            const veach::Scene& s = scene->m_load.scene;
             const veach::RepairCounts& r = s.repaired;
             auto count = [](uint64_t c) { return static_cast<long long>(c); };
             if (n == "triangles")
@@ -437,11 +355,11 @@ VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, doub
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
         if (n == "env_strength")
-            *value = scene->m_environment.strength;
+            *value = scene->m_options.environment.strength;
         else if (n == "env_rotate")
-            *value = scene->m_environment.rotate_degrees;
+            *value = scene->m_options.environment.rotate_degrees;
         else if (n == "time")
-            *value = scene->m_import.animate ? scene->m_time : std::numeric_limits<double>::quiet_NaN();
+            *value = scene->m_options.import.animate ? scene->m_options.time : std::numeric_limits<double>::quiet_NaN();
         return VEACH_ERROR_NONE;
     });
 }
@@ -455,17 +373,17 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
         std::string n = name, value;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
         if (n == "variant")
-            value = scene->m_import.variant;
+            value = scene->m_options.import.variant;
         else if (n == "spot_falloff")
-            value = spot_name(scene->m_import.spot_profile);
+            value = veach::spot_profile_name(scene->m_options.import.spot_profile);
         else if (n == "default_material")
-            value = default_material_name(scene->m_import.default_material);
+            value = veach::default_material_name(scene->m_options.import.default_material);
         else if (n == "env_map")
-            value = scene->m_environment.map_path;
+            value = scene->m_options.environment.map_path;
         else if (n == "env_color")
             value = scene->m_env_color;
         else if (n == "animation")
-            value = scene->m_import.animation;
+            value = scene->m_options.import.animation;
         else if (n == "shutter")
             value = scene->m_shutter;
         else {
@@ -473,9 +391,9 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
             if (n == "source")
                 value = scene->m_source;
             else if (n == "features") {
-                for (const std::string& f : scene->m_scene.features.names()) value += (value.empty() ? "" : "\n") + f;
+                for (const std::string& f : scene->m_load.scene.features.names()) value += (value.empty() ? "" : "\n") + f;
             } else if (n == "warnings") {
-                for (const std::string& w : scene->m_scene.warnings) value += (value.empty() ? "" : "\n") + w;
+                for (const std::string& w : scene->m_load.scene.warnings) value += (value.empty() ? "" : "\n") + w;
             }
         }
         veach::capi::copy_string(value, buffer, size, length);
@@ -494,7 +412,7 @@ VEACH_API void veachReleaseScene(VeachScene scene) {
 VEACH_API int veachGetSceneCameraCount(VeachScene scene) {
     return guarded<int>(nullptr, -1, [&] {
         check_scene(scene, "veachGetSceneCameraCount");
-        return scene->m_loaded ? static_cast<int>(scene->m_scene.cameras.size()) : 0;
+        return scene->m_loaded ? static_cast<int>(scene->m_load.scene.cameras.size()) : 0;
     });
 }
 
@@ -502,9 +420,9 @@ VEACH_API const char* veachGetSceneCameraName(VeachScene scene, int index) {
     return guarded<const char*>(scene ? scene->m_device : nullptr, nullptr, [&]() -> const char* {
         check_scene(scene, "veachGetSceneCameraName");
         check_loaded(scene, "veachGetSceneCameraName");
-        if (index < 0 || static_cast<size_t>(index) >= scene->m_scene.cameras.size())
+        if (index < 0 || static_cast<size_t>(index) >= scene->m_load.scene.cameras.size())
             throw invalid("veachGetSceneCameraName: no camera " + std::to_string(index));
-        return scene->m_scene.cameras[static_cast<size_t>(index)].name.c_str();
+        return scene->m_load.scene.cameras[static_cast<size_t>(index)].name.c_str();
     });
 }
 

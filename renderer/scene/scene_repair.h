@@ -1,9 +1,10 @@
-// Degenerate geometry, repaired or dropped once after import, before anything is built from the
-// scene. Files from every exporter carry faces the renderer cannot use as they are: zero-area and
-// collinear triangles (no normal, no area to sample), repeated corners, NaN or infinite
-// attributes (one NaN spreads to every pixel that sees it), zero-length or non-unit normals, and
-// the same face stored twice. Each case is counted in Scene::repaired and summarised in one
-// warning; nothing here depends on the scene's size.
+// Degenerate geometry, repaired or dropped once after import (by the scene load,
+// load/scene_load.h), before anything is built from the scene. Files from every exporter carry
+// faces the renderer cannot use as they are: zero-area and collinear triangles (no normal, no
+// area to sample), repeated corners, NaN or infinite attributes (one NaN spreads to every pixel
+// that sees it), zero-length or non-unit normals, and the same face stored twice. Each case is
+// counted in Scene::repaired and summarised in one warning; nothing here depends on the scene's
+// size.
 #pragma once
 
 #include "scene/scene.h"
@@ -32,13 +33,13 @@ RepairCounts repair_scene(Scene& scene);
 // subtraction is done in double on the transforms' translations, so no shape changes, and the
 // image does not either: nothing the renderer computes depends on where the origin is. Returns
 // the offset subtracted (zero when the scene was left alone). Not part of repair_scene: importers
-// keep the file's coordinates; front ends call it just before rendering.
+// keep the file's coordinates; the scene load calls it last, after the pose.
 Vec3 rebase_scene(Scene& scene);
 
 // A scene with no light at all (no punctual light, no emissive surface, no environment) renders
 // black. glTF viewers light such a scene with a uniform white world; so does Veach: this enables
-// a uniform environment of radiance 1, warns once, and returns true. Front ends call it after
-// applying their own environment options, so an explicit --env always wins.
+// a uniform environment of radiance 1, warns once, and returns true. The scene load calls it after
+// applying the environment options, so an explicit --env always wins.
 bool light_unlit_scene(Scene& scene);
 
 }  // namespace veach

@@ -10,7 +10,7 @@
 #include <filesystem>
 
 #include "../render/test_scenes.h"
-#include "api/render_job.h"
+#include "job/render_job.h"
 #include "core/rng.h"
 #include "film/film_checkpoint.h"
 

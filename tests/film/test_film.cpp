@@ -12,7 +12,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "api/render_job.h"
+#include "job/render_job.h"
 #include "core/rng.h"
 #include "film/film_checkpoint.h"
 

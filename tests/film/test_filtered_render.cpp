@@ -9,7 +9,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "api/render_job.h"
+#include "job/render_job.h"
 #include "importers/importer.h"
 
 namespace veach {

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "api/render_job.h"
+#include "job/render_job.h"
 
 namespace veach::test {
 

@@ -1,4 +1,4 @@
-#include "api/render_job.h"
+#include "job/render_job.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "api/environment_options.h"
+#include "load/environment_options.h"
 
 #include <cmath>
 #include <filesystem>

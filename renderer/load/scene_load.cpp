@@ -1,0 +1,95 @@
+#include "load/scene_load.h"
+
+#include <stdexcept>
+#include <utility>
+
+#include "core/content_hash.h"
+#include "scene/scene_animation.h"
+#include "scene/scene_motion.h"
+#include "scene/scene_repair.h"
+
+namespace veach {
+namespace {
+
+// The environment map's content, never its path: a checkpoint resumes with the same map reached
+// through another folder.
+uint64_t environment_map_hash(const EnvironmentOptions& env) {
+    uint64_t map = k_fnv_offset;
+    if (!env.map_path.empty() && !hash_file_content(env.map_path, &map))
+        throw ImportError(env.map_path + ": cannot read the environment map");
+    return map;
+}
+
+// Every load option by exact bytes, after the content of what was read (core/content_hash.h).
+uint64_t scene_identity(const SceneLoadOptions& options, uint64_t file_hash, uint64_t env_map_hash) {
+    const ImportOptions& import = options.import;
+    const EnvironmentOptions& env = options.environment;
+    HashKey key("veach-scene-v2");
+    key.field("content", file_hash)
+        .field("scene", import.scene_index)
+        .field("variant", import.variant)
+        .field("spot", spot_profile_name(import.spot_profile))
+        .field("default_material", default_material_name(import.default_material))
+        .field("env_map", !env.map_path.empty())
+        .field("env_has_color", env.has_color)
+        .field("env_r", env.color.r)
+        .field("env_g", env.color.g)
+        .field("env_b", env.color.b)
+        .field("env_strength", env.strength)
+        .field("env_rotate", env.rotate_degrees);
+    // Only a posed scene names its time: an unanimated one keeps the identity it always had.
+    if (import.animate) key.field("time", options.time).field("animation", import.animation);
+    // Likewise only a motion-blurred scene names its shutter.
+    if (options.motion_blur()) key.field("shutter_open", options.shutter_open).field("shutter_close", options.shutter_close);
+    key.field("env_map_content", env_map_hash);
+    return key.value();
+}
+
+// What changes with the time: the pose, the motion across the shutter, the rebase that follows
+// the posed geometry.
+void pose_at_time(Scene& scene, const SceneLoadOptions& options) {
+    pose_scene(scene, options.time);  // a scene imported without animation stays as it is
+    capture_motion(scene, options.time, options.shutter_open, options.shutter_close);
+}
+
+LoadedScene finish_load(Scene&& imported, const SceneLoadOptions& options) {
+    LoadedScene loaded;
+    // The bytes of every file the import read, never the path: a checkpoint or part resumes or
+    // merges the same content reached through another folder or mount.
+    loaded.file_hash = imported.content_hash;
+    // Repaired once, before anything is built from it or posed (the rest shapes deform).
+    repair_scene(imported);
+    try {
+        apply_environment(options.environment, &imported);
+    } catch (const std::invalid_argument& e) {
+        throw ImportError(e.what());  // "FILE: fault": an unreadable map
+    }
+    pose_at_time(imported, options);
+    light_unlit_scene(imported);
+    rebase_scene(imported);
+    loaded.scene = std::move(imported);
+    loaded.env_map_hash = environment_map_hash(options.environment);
+    loaded.identity = scene_identity(options, loaded.file_hash, loaded.env_map_hash);
+    return loaded;
+}
+
+}  // namespace
+
+LoadedScene load_scene_file(const std::string& path, const SceneLoadOptions& options) {
+    return finish_load(import_scene(path, options.import), options);
+}
+
+LoadedScene load_scene_memory(const std::vector<uint8_t>& bytes, const std::string& format,
+                              const std::string& base_dir, const SceneLoadOptions& options) {
+    return finish_load(import_scene_from_memory(bytes, format, base_dir, options.import), options);
+}
+
+SceneChanges repose_scene(LoadedScene& loaded, const SceneLoadOptions& options) {
+    const ScenePose before = capture_pose(loaded.scene);
+    pose_at_time(loaded.scene, options);
+    rebase_scene(loaded.scene);
+    loaded.identity = scene_identity(options, loaded.file_hash, loaded.env_map_hash);
+    return changes_since(before, loaded.scene);
+}
+
+}  // namespace veach
