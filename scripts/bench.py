@@ -11,9 +11,11 @@ Time against error, measured side by side in one run on this machine:
     scripts/blender/cycles_setup.py with a render time limit), and our efficiency over Cycles';
   - 2 threads against 1 thread (samples/s, pt, cornell);
   - farm parts' overhead: 16 parts merged against one render of all their samples (CPU time) at
-    128x128 (16 x 64 spp) and 1280x720 (16 x 4 spp, and what that gives for 16 x 64), part file
-    bytes per pixel, and the merge time of 16 parts of a 1920x1080 frame (--only-parts runs this
-    alone);
+    128x128 (16 x 64 spp) and 1280x720 (16 x 4 spp, and what that gives for 16 x 64), the parts
+    run as they are and with OpenImageIO loaded at start (the image module preloaded: what every
+    process paid before OpenImageIO was opened on first use), instructions of process start and
+    of a small part (valgrind), part file bytes per pixel, and the merge time of 16 parts of a
+    1920x1080 frame (--only-parts runs this alone);
   - animation (scripts/bench_animation.py): a 120-frame sequence of ~1M static triangles and one
     moving cube against a still, and a 10,000-instance EXT_mesh_gpu_instancing forest's peak
     memory against one tree (--only-animation runs these alone; --frames N for fewer frames).
@@ -108,43 +110,92 @@ def ray_limit(scene):
 # at 1280x720 (that render itself would take ~20 CPU minutes) and the samples per part from which
 # the parts cost at most 5% more. Then the part file's size per pixel and the merge of 16 parts
 # of a 1920x1080 frame (parts of 1 spp at depth 2, since only their size matters to the merge).
-def cpu_seconds(cmds):
-    before = os.times()
+#
+# The parts run twice, side by side: as they are (OpenImageIO opened on first use, in the image
+# module, which a part writing only a .vpart never opens) and with the image module preloaded
+# (LD_PRELOAD), which makes the dynamic loader map and relocate OpenImageIO's ~260 libraries at
+# start as it did when libveach linked OpenImageIO. Instruction counts (valgrind's callgrind,
+# when installed: `scripts/install-deps.sh --bench`) are of process start and of one small part.
+IMAGE_MODULE = os.path.join(args.build, "libveach_image_io.so")
+EAGER = dict(os.environ, LD_PRELOAD=IMAGE_MODULE)
+
+
+def cpu_seconds(cmds, env=None):
+    # getrusage, not os.times: its microseconds resolve a process start of a few milliseconds,
+    # which clock ticks (10 ms) round to zero.
+    import resource
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     for c in cmds:
-        run(c)
-    after = os.times()
-    return (after.children_user - before.children_user) + (after.children_system - before.children_system)
+        run(c, env=env)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def instructions(cmd, env=None):
+    """Instructions a command executes (callgrind's total), or None without valgrind."""
+    if shutil.which("valgrind") is None:
+        return None
+    out = os.path.join(tmp, "callgrind.out")
+    p = run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, *cmd], env=env)
+    line = [l for l in p.stderr.splitlines() if "Collected :" in l][0]
+    return int(line.split()[-1])
 
 
 def split_frame(scene, size, spp, parts, tag):
-    """CPU seconds of one `spp` render, of `parts` sample-range parts, and of their merge."""
+    """CPU seconds of one `spp` render, of `parts` sample-range parts (lazy and eager OpenImageIO),
+    and of their merge."""
     single = cpu_seconds([[veach, "render", scene, "-o", os.path.join(tmp, tag + ".exr"), "--spp", str(spp), *size]])
     chunk = spp // parts
     files = [os.path.join(tmp, "%s%02d.vpart" % (tag, c)) for c in range(parts)]
-    split = cpu_seconds([[veach, "render", scene, "-o", files[c], "--spp", str(spp), "--samples",
-                          "%d:%d" % (chunk * c, chunk * (c + 1)), *size] for c in range(parts)])
+    cmds = [[veach, "render", scene, "-o", files[c], "--spp", str(spp), "--samples",
+             "%d:%d" % (chunk * c, chunk * (c + 1)), *size] for c in range(parts)]
+    # Each part run both ways in turn (which first alternates), so that the machine's load, which
+    # drifts over minutes, weighs on both sums alike.
+    split = split_eager = 0.0
+    for c, cmd in enumerate(cmds):
+        for eager in ((False, True) if c % 2 == 0 else (True, False)):
+            seconds = cpu_seconds([cmd], env=EAGER if eager else None)
+            if eager:
+                split_eager += seconds
+            else:
+                split += seconds
     merge = cpu_seconds([[veach, "merge", *files, "--expect-spp", str(spp), "-o", os.path.join(tmp, tag + "_m.exr"),
                           "--quiet"]])
-    return single, split, merge, files
+    return single, split, split_eager, merge, files
 
 
 def parts_overhead():
     import time
+    if not os.path.exists(IMAGE_MODULE):
+        sys.exit("bench.py: no image module at " + IMAGE_MODULE)
     scene = os.path.join(SCENES, "cornell", "cornell.gltf")
     common = ["--integrator", "pt", "--threads", "1", "--quiet"]
-    start = min(cpu_seconds([[veach, "--version"]]) for _ in range(3))
-    single, split, merge, parts = split_frame(scene, ["--width", "128", "--height", "128", *common], 1024, 16, "p")
+    start = min(cpu_seconds([[veach, "--version"]]) for _ in range(5))
+    start_eager = min(cpu_seconds([[veach, "--version"]], env=EAGER) for _ in range(5))
+    small_part = [veach, "render", scene, "-o", os.path.join(tmp, "i.vpart"), "--spp", "16", "--samples", "0:1",
+                  "--width", "128", "--height", "128", *common]
+    ins = {mode: (instructions([veach, "--version"], env), instructions(small_part, env))
+           for mode, env in (("lazy", None), ("eager", EAGER))}
+    single, split, split_eager, merge, parts = split_frame(
+        scene, ["--width", "128", "--height", "128", *common], 1024, 16, "p")
     small = sum(os.path.getsize(p) for p in parts) / 16 / (128 * 128)
     hd_size = ["--width", "1280", "--height", "720", *common]
-    hd_single, hd_split, hd_merge, hd_parts = split_frame(scene, hd_size, 64, 16, "q")
+    hd_single, hd_split, hd_split_eager, hd_merge, hd_parts = split_frame(scene, hd_size, 64, 16, "q")
     per_spp = (hd_single - start) / 64  # the samples' cost (an upper bound: the film and image are in it)
-    fixed = (hd_split - hd_single) / 16  # what each part costs beyond its samples
+
     # A single render of n spp costs hd_single + (n - 64) per_spp; its 16 parts 16 fixed + merge more.
     def single_of(n):
         return hd_single + (n - 64) * per_spp
-    at_64 = (single_of(1024) + 16 * fixed + hd_merge) / single_of(1024)
-    # 16 parts of n spp cost at most 5% more when 16 fixed + merge <= 0.05 single_of(16 n).
-    threshold = ((16 * fixed + hd_merge) / 0.05 - hd_single + 64 * per_spp) / (16 * per_spp)
+
+    def derived(parts_seconds):
+        fixed = (parts_seconds - hd_single) / 16  # what each part costs beyond its samples
+        at_64 = (single_of(1024) + 16 * fixed + hd_merge) / single_of(1024)
+        # 16 parts of n spp cost at most 5% more when 16 fixed + merge <= 0.05 single_of(16 n).
+        threshold = ((16 * fixed + hd_merge) / 0.05 - hd_single + 64 * per_spp) / (16 * per_spp)
+        return fixed, at_64, threshold
+
+    fixed, at_64, threshold = derived(hd_split)
+    fixed_eager, at_64_eager, threshold_eager = derived(hd_split_eager)
     hd_bytes = sum(os.path.getsize(p) for p in hd_parts) / 16 / (1280 * 720)
     big = [os.path.join(tmp, "hd%02d.vpart" % c) for c in range(16)]
     for c in range(16):
@@ -162,20 +213,36 @@ def parts_overhead():
     run([veach, "render", scene, "-o", bdpt, "--width", "1920", "--height", "1080", "--spp", "16", "--samples", "0:1",
          "--integrator", "bdpt", "--max-depth", "2", "--quiet"])
     hd_bdpt = os.path.getsize(bdpt) / (1920 * 1080)
+
+    def millions(n):
+        return "n/a (no valgrind)" if n is None else "%.1f M" % (n / 1e6)
+
     lines = [
+        "| measure | OpenImageIO on first use | OpenImageIO at start (as before) |",
+        "|---|---|---|",
+        "| CPU seconds, process start alone (`veach --version`) | %.3f | %.3f |" % (start, start_eager),
+        "| instructions, process start alone (`veach --version`) | %s | %s |" % (millions(ins["lazy"][0]),
+                                                                               millions(ins["eager"][0])),
+        "| instructions, one 128x128 part of 1 spp (cornell, pt) | %s | %s |" % (millions(ins["lazy"][1]),
+                                                                                millions(ins["eager"][1])),
+        "| CPU seconds, 16 parts of 64 spp + merge (128x128) | %.2f | %.2f |" % (split + merge, split_eager + merge),
+        "| parts / single, 16 x 64 spp at 128x128 | %.3f | %.3f |" % ((split + merge) / single,
+                                                                      (split_eager + merge) / single),
+        "| CPU seconds, 16 parts of 4 spp + merge (1280x720) | %.2f | %.2f |" % (hd_split + hd_merge,
+                                                                                hd_split_eager + hd_merge),
+        "| parts / single, 16 x 4 spp at 1280x720 | %.3f | %.3f |" % ((hd_split + hd_merge) / hd_single,
+                                                                      (hd_split_eager + hd_merge) / hd_single),
+        "| fixed CPU seconds per part at 1280x720 (beyond its samples) | %.3f | %.3f |" % (fixed, fixed_eager),
+        "| parts / single, 16 x 64 spp at 1280x720 (from the fixed cost and the cost per spp) | %.3f | %.3f |"
+        % (at_64, at_64_eager),
+        "| spp per part from which 16 parts cost at most 5%% more (1280x720, pt) | %.1f | %.1f |"
+        % (threshold, threshold_eager),
+        "",
         "| measure | value |",
         "|---|---|",
-        "| CPU seconds, process start alone (`veach --version`) | %.3f |" % start,
         "| CPU seconds, one 1024-spp render (cornell 128x128, pt, 1 thread) | %.2f |" % single,
-        "| CPU seconds, 16 parts of 64 spp + merge (128x128) | %.2f |" % (split + merge),
-        "| parts / single, 16 x 64 spp at 128x128 | %.3f |" % ((split + merge) / single),
         "| CPU seconds, one 64-spp render (cornell 1280x720, pt, 1 thread) | %.2f |" % hd_single,
-        "| CPU seconds, 16 parts of 4 spp + merge (1280x720) | %.2f |" % (hd_split + hd_merge),
-        "| parts / single, 16 x 4 spp at 1280x720 | %.3f |" % ((hd_split + hd_merge) / hd_single),
-        "| fixed CPU seconds per part at 1280x720 (beyond its samples) | %.3f |" % fixed,
-        "| CPU seconds of the merge of 16 parts of 1280x720 | %.2f |" % hd_merge,
-        "| parts / single, 16 x 64 spp at 1280x720 (from the fixed cost and the cost per spp) | %.3f |" % at_64,
-        "| spp per part from which 16 parts cost at most 5%% more (1280x720, pt) | %.1f |" % threshold,
+        "| CPU seconds of the merge of 16 parts of 1280x720 (into an EXR) | %.2f |" % hd_merge,
         "| part file bytes per pixel, 128x128 pt part (64 spp) | %.1f |" % small,
         "| part file bytes per pixel, 1280x720 pt part (4 spp) | %.1f |" % hd_bytes,
         "| part file bytes per pixel, 1920x1080 pt part (1 spp) | %.1f |" % hd,

@@ -24,7 +24,7 @@ packages=(
   nodejs           # the Flamenco job type's test (tests/farm/test_flamenco_job.js, node:test)
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(blender gnuplot-nox)
+  packages+=(blender gnuplot-nox valgrind)  # valgrind: instruction counts of the farm parts
 fi
 if [[ "${1:-}" == "--fuzz" ]]; then
   packages+=(clang-14 libclang-rt-14-dev)
