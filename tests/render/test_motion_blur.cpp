@@ -399,18 +399,23 @@ GltfBuilder lit_motion_scene() {
     return b;
 }
 
-TEST(MotionBlur, PtAndBdptAgreeOnAMovingAndTurningObject) {
-    // BDPT's light subpaths meet the object where it is at the sample's time, as pt's paths do.
+TEST(MotionBlur, PtBdptAndLtAgreeOnAMovingAndTurningObject) {
+    // BDPT's light subpaths (and lt's particles) meet the object where it is at the sample's
+    // time, as pt's paths do.
     Scene s = posed(lit_motion_scene(), 0.5, -0.5, 0.5);
     ASSERT_TRUE(s.motion.instance_moves(1));
     const int runs = 8;
     BlockEstimate pt = block_estimate(s, "pt", test::spp(32), runs, 300);
     BlockEstimate bdpt = block_estimate(s, "bdpt", test::spp(32), runs, 400);
+    // Light tracing alone (particles from the light splatted onto the camera where it stands).
+    BlockEstimate lt = block_estimate(s, "lt", test::spp(32), runs, 500);
     BlockEstimate sharp = block_estimate(posed(lit_motion_scene(), 0.5, 0, 0), "pt", test::spp(32), runs, 300);
     double differs = 0;
     for (size_t k = 0; k < pt.mean.size(); ++k) {
         const double z = (pt.mean[k] - bdpt.mean[k]) / std::sqrt(pt.se[k] * pt.se[k] + bdpt.se[k] * bdpt.se[k] + 1e-12);
         EXPECT_LT(std::fabs(z), 4.5) << "block " << k << ": pt " << pt.mean[k] << " bdpt " << bdpt.mean[k];
+        const double zl = (pt.mean[k] - lt.mean[k]) / std::sqrt(pt.se[k] * pt.se[k] + lt.se[k] * lt.se[k] + 1e-12);
+        EXPECT_LT(std::fabs(zl), 4.5) << "block " << k << ": pt " << pt.mean[k] << " lt " << lt.mean[k];
         const double zs = (pt.mean[k] - sharp.mean[k]) / std::sqrt(pt.se[k] * pt.se[k] + sharp.se[k] * sharp.se[k] + 1e-12);
         differs = std::max(differs, std::fabs(zs));
     }
