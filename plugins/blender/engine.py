@@ -106,24 +106,25 @@ class VeachRenderEngine(bpy.types.RenderEngine):
     def motion_steps(self, depsgraph, scene):
         """Motion blur's steps: the depsgraph evaluated at the shutter's open, middle and close
         (Blender's Motion Blur shutter, in frames, placed by Cycles' Position), each step's world
-        matrices of meshes and the camera (gltf_export.world_matrices), and the times in seconds
-        from the frame; the depsgraph is left at the frame. Deformation within the shutter is not
-        carried: each mesh keeps the frame's shape and moves with its object."""
+        matrices of meshes and the camera and each object's evaluated shape
+        (gltf_export.world_matrices), and the times in seconds from the frame; the depsgraph is
+        left at the frame."""
         shutter = scene.render.motion_blur_shutter
         position = getattr(getattr(scene, "cycles", None), "motion_blur_position", "CENTER")
         open_, close = {"START": (0.0, shutter), "END": (-shutter, 0.0)}.get(position, (-shutter / 2, shutter / 2))
         frame, subframe = scene.frame_current, scene.frame_subframe
         seconds_per_frame = scene.render.fps_base / scene.render.fps
-        times, steps = [], []
+        times, steps, shapes = [], [], []
         for k in range(3):
             offset = open_ + (close - open_) * k / 2
             at = frame + subframe + offset
             whole = math.floor(at)
             self.frame_set(int(whole), at - whole)
-            steps.append(gltf_export.world_matrices(depsgraph))
+            shapes.append({})
+            steps.append(gltf_export.world_matrices(depsgraph, shapes[-1]))
             times.append(offset * seconds_per_frame)
         self.frame_set(frame, subframe)
-        return times, steps
+        return times, steps, shapes
 
     def render_scene(self, scene, view_layer, path, scene_options, export, width, height):
         prefs = addon_preferences(bpy.context)

@@ -102,14 +102,27 @@ def motion_key(instance):
             tuple(instance.persistent_id) if instance.is_instance else ())
 
 
-def world_matrices(depsgraph):
+def world_matrices(depsgraph, shapes=None):
     """Per object instance (motion_key) its world matrix in glTF space as the depsgraph stands:
-    one motion blur step. Meshes and cameras only: lights, like emitters, are not blurred."""
+    one motion blur step. Meshes and cameras only: lights, like emitters, are not blurred. With
+    `shapes` (a dict), each object's (not instance's) evaluated corner positions and normals go
+    there too, for deformation within the shutter."""
     out = {}
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type in GEOMETRY_TYPES:
             out[motion_key(instance)] = object_matrix(matrix_array(instance.matrix_world))
+            if shapes is not None and not instance.is_instance:
+                try:
+                    mesh = obj.to_mesh()
+                except RuntimeError:
+                    continue
+                try:
+                    arrays = mesh_arrays(mesh) if mesh is not None else None
+                    if arrays is not None:
+                        shapes[motion_key(instance)] = (arrays[0], arrays[1])
+                finally:
+                    obj.to_mesh_clear()
         elif obj.type == "CAMERA":
             out[motion_key(instance)] = frame_matrix(matrix_array(instance.matrix_world))
     return out
@@ -146,14 +159,55 @@ def trs_of(m):
     return m[:3, 3].copy(), quaternion_of(linear / scale), scale
 
 
-def add_motion(gltf, writer, node_keys, motion):
+def add_morph_motion(gltf, writer, node_index, frame_arrays, shapes, time_input, channels, samplers, export):
+    """A mesh node that deforms within the shutter: one morph target per step (its corners' shift
+    from the frame's shape, positions and normals), weights keyed one-hot at the steps' times, so
+    that LINEAR weights move every corner on the straight line between two steps, as the
+    renderer's vertex time steps do. False when the shapes do not line up (topology changes)."""
+    positions, normals, _, triangles, tri_material = frame_arrays
+    if any(p.shape != positions.shape or n.shape != normals.shape for p, n in shapes):
+        export.warn("motion blur topology", "a mesh whose topology changes within the shutter keeps the frame's "
+                                            "shape (moved with its object, not deformed)")
+        return False
+    mesh = gltf["meshes"][gltf["nodes"][node_index]["mesh"]]
+    for primitive, slot in zip(mesh["primitives"], np.unique(tri_material)):
+        used = np.unique(triangles[tri_material == slot].ravel())  # as write_mesh orders them
+        primitive["targets"] = [
+            {"POSITION": writer.add((p[used] - positions[used]).astype(np.float32), 5126, "VEC3", bounds=True),
+             "NORMAL": writer.add((n[used] - normals[used]).astype(np.float32), 5126, "VEC3")}
+            for p, n in shapes]
+    mesh["weights"] = [0.0] * len(shapes)
+    weights = np.eye(len(shapes), dtype=np.float32).ravel()
+    samplers.append({"input": time_input, "output": writer.add(weights, 5126, "SCALAR"), "interpolation": "LINEAR"})
+    channels.append({"sampler": len(samplers) - 1, "target": {"node": node_index, "path": "weights"}})
+    return True
+
+
+def add_motion(gltf, writer, node_keys, motion, export, frame_arrays=None):
     """Animations that move each node whose world matrix changes across the shutter: its
     matrix becomes TRS keyed at the steps' times (seconds from the frame, LINEAR: the renderer
     slerps the rotation), which the renderer poses at time 0, the frame, and samples across the
-    shutter. `motion`: (times, steps), steps[k] from world_matrices."""
-    times, steps = motion
+    shutter; and morph targets for the meshes whose shape changes (add_morph_motion). `motion`:
+    (times, steps, shapes), steps[k] and shapes[k] from world_matrices; frame_arrays: per
+    motion_key the mesh_arrays the export wrote (objects used once)."""
+    times, steps, step_shapes = motion
     channels, samplers = [], []
+    time_input = None
+
+    def input_accessor():
+        nonlocal time_input
+        if time_input is None:
+            time_input = writer.add(np.array(times, dtype=np.float32).reshape(-1, 1), 5126, "SCALAR", bounds=True)
+        return time_input
+
     for node_index, key in node_keys:
+        if frame_arrays and key in frame_arrays and "mesh" in gltf["nodes"][node_index]:
+            shapes = [shape.get(key) for shape in step_shapes]
+            frame = frame_arrays[key]
+            if all(sh is not None for sh in shapes) and not all(
+                    sh[0].shape == frame[0].shape and np.array_equal(sh[0], frame[0]) for sh in shapes):
+                add_morph_motion(gltf, writer, node_index, frame, shapes, input_accessor(), channels, samplers,
+                                 export)
         mats = [step.get(key) for step in steps]
         if any(m is None for m in mats) or all(np.array_equal(m, mats[0]) for m in mats):
             continue  # appears or vanishes within the shutter, or still: as at the frame
@@ -170,12 +224,9 @@ def add_motion(gltf, writer, node_keys, motion):
         del node["matrix"]
         node["translation"], node["rotation"], node["scale"] = (
             [float(x) for x in v] for v in frame)
-        if not hasattr(writer, "motion_input"):
-            writer.motion_input = writer.add(np.array(times, dtype=np.float32).reshape(-1, 1), 5126, "SCALAR",
-                                             bounds=True)
         for path, index, kind in (("translation", 0, "VEC3"), ("rotation", 1, "VEC4"), ("scale", 2, "VEC3")):
             output = writer.add(np.array([p[index] for p in parts], dtype=np.float32), 5126, kind)
-            samplers.append({"input": writer.motion_input, "output": output, "interpolation": "LINEAR"})
+            samplers.append({"input": input_accessor(), "output": output, "interpolation": "LINEAR"})
             channels.append({"sampler": len(samplers) - 1, "target": {"node": node_index, "path": path}})
     if channels:
         gltf["animations"] = [{"name": "motion blur", "channels": channels, "samplers": samplers}]
@@ -328,6 +379,7 @@ def export_frame_gltf(depsgraph, path, width=None, height=None, motion=None):
 
     camera_object = scene.camera
     node_keys = []  # (node index, motion_key) of meshes and the camera, for motion blur
+    frame_arrays = {}  # motion_key -> mesh_arrays written for it (objects, not instances)
     for instance in depsgraph.object_instances:
         obj = instance.object
         if not instance.is_instance and not getattr(instance, "show_self", True):
@@ -343,7 +395,10 @@ def export_frame_gltf(depsgraph, path, width=None, height=None, motion=None):
             # The evaluated object and its data: an object and its instances share one mesh.
             key = (obj.name, obj.data.as_pointer() if obj.data else 0)
             if key not in meshes:
-                meshes[key] = mesh_for_object(obj, writer, gltf, converter, export)
+                arrays_out = {} if motion is not None and not instance.is_instance else None
+                meshes[key] = mesh_for_object(obj, writer, gltf, converter, export, arrays_out)
+                if arrays_out:
+                    frame_arrays[motion_key(instance)] = arrays_out["arrays"]
             if meshes[key] is not None:
                 add_node({"name": obj.name, "mesh": meshes[key], "matrix": column_major(object_matrix(world))})
                 node_keys.append((len(gltf["nodes"]) - 1, motion_key(instance)))
@@ -379,7 +434,7 @@ def export_frame_gltf(depsgraph, path, width=None, height=None, motion=None):
     if camera_object is None:
         export.warn("camera", "the scene has no camera")
     if motion is not None:
-        export.motion = add_motion(gltf, writer, node_keys, motion)
+        export.motion = add_motion(gltf, writer, node_keys, motion, export, frame_arrays)
     if lights:
         gltf["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
         gltf["extensionsUsed"].append("KHR_lights_punctual")
@@ -406,7 +461,7 @@ def export_frame_gltf(depsgraph, path, width=None, height=None, motion=None):
     return export
 
 
-def mesh_for_object(obj, writer, gltf, converter, export):
+def mesh_for_object(obj, writer, gltf, converter, export, arrays_out=None):
     try:
         mesh = obj.to_mesh()
     except RuntimeError:
@@ -418,6 +473,8 @@ def mesh_for_object(obj, writer, gltf, converter, export):
         if arrays is None:
             return None
         material_ids = [converter.material(slot.material) for slot in obj.material_slots]
+        if arrays_out is not None:
+            arrays_out["arrays"] = arrays
         return write_mesh(writer, gltf, obj.name, arrays, material_ids)
     finally:
         obj.to_mesh_clear()

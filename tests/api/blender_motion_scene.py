@@ -53,6 +53,28 @@ for curve in spinner.animation_data.action.fcurves:
     for key in curve.keyframe_points:
         key.interpolation = "LINEAR"
 
+# A shape key sliding a strip: x in [-1.5, -0.5], y in [-0.95, -0.55] at z = 0.5, its key "Slide"
+# moving every vertex +1 along X, the key's value 0 at frame 5 and 1 at frame 9 (LINEAR): 0.25
+# units per frame, the strip at x in [-1, 0] at frame 7. The object stands still: only its
+# shape moves.
+bpy.ops.mesh.primitive_plane_add(size=1, location=(-1.0, -0.75, 0.5))
+strip = bpy.context.active_object
+strip.name = "Strip"
+strip.scale = (1, 0.4, 1)
+bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
+strip.data.materials.append(material)
+strip.shape_key_add(name="Basis")
+slide = strip.shape_key_add(name="Slide")
+for point in slide.data:
+    point.co.x += 1.0
+slide.value = 0.0
+slide.keyframe_insert("value", frame=5)
+slide.value = 1.0
+slide.keyframe_insert("value", frame=9)
+for curve in strip.data.shape_keys.animation_data.action.fcurves:
+    for key in curve.keyframe_points:
+        key.interpolation = "LINEAR"
+
 camera_data = bpy.data.cameras.new("Camera")
 camera_data.type = "ORTHO"
 camera_data.ortho_scale = 4.0
