@@ -372,6 +372,44 @@ TEST(MotionBlur, ShadingFindsTheHitWhereTheRayFoundIt) {
     }
 }
 
+TEST(MotionBlur, AMirroredOrShearedTurningObjectKeepsItsShapeAtEveryTime) {
+    // A mirrored (negative scale), stretched and turned node under a parent that scales it
+    // unevenly (a shear in the child's frame) and turns: the decomposition keeps the mirror, the
+    // stretch and the shear in its scale/shear part, so the transform Embree interpolates is the
+    // parent's slerped turn applied to the same shape at every time.
+    GltfBuilder b;
+    b.push("materials", {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}}}});
+    int mesh = rect(b, 0.2f, 1.0f, -0.1f, 0.3f, 0);
+    // The child turned about an oblique axis, so the parent's stretch shears it in every plane.
+    int child = b.push("nodes", {{"mesh", mesh},
+                                 {"scale", {-1, 2, 0.5}},
+                                 {"rotation", {0.2073903, 0.3110855, 0.4147807, 0.8295614}}});
+    int parent = b.push("nodes", {{"children", {child}}, {"translation", {0.3, -0.2, 0.5}}, {"scale", {1.5, 0.7, 1}}});
+    b.doc["scenes"] = json::array({{{"nodes", {parent}}}});
+    b.doc["scene"] = 0;
+    const float h = std::sqrt(0.5f);
+    int input = b.accessor(std::vector<float>{0, 1}, k_float, "SCALAR");
+    int output = b.accessor(std::vector<float>{0, 0, 0, 1, 0, 0, h, h}, k_float, "VEC4");
+    b.push("animations", {{"channels", {{{"sampler", 0}, {"target", {{"node", parent}, {"path", "rotation"}}}}}},
+                          {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "LINEAR"}}}}});
+    Scene s = posed(b, 0.5, -0.5, 0.5);
+    ASSERT_TRUE(s.motion.instance_moves(0));
+    Accel accel(s);
+    const Transform local =
+        rotation_quaternion(0.2073903f, 0.3110855f, 0.4147807f, 0.8295614f) * scaling(Vec3(-1, 2, 0.5f));
+    for (float u : {0.0f, 0.1f, 0.25f, 0.6f, 1.0f}) {
+        Transform t;
+        ASSERT_TRUE(accel.moving_transform(0, u, &t));
+        const float th = u * float(k_pi) / 2;
+        const Transform want = translation(Vec3(0.3f, -0.2f, 0.5f)) *
+                               rotation_quaternion(0, 0, std::sin(th / 2), std::cos(th / 2)) *
+                               scaling(Vec3(1.5f, 0.7f, 1)) * local;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(t.m[r][c], want.m[r][c], 2e-5) << u << " " << r << c;
+        EXPECT_LT(t.determinant(), 0.0f) << u;
+    }
+}
+
 // A grey strip moving and turning between a point light and a lit floor, seen by a still
 // perspective camera: a blurred object and its blurred shadow.
 GltfBuilder lit_motion_scene() {
