@@ -1,7 +1,7 @@
 # The two commands of the quick start, and the developer targets around them.
 #   make render   set up, build (Release) and render the bundled example to out/
 #   make test     set up, build and run the test suite
-#   make install PREFIX=/opt/veach  headers, libveach, CMake package, veach.pc, `veach`, the add-on
+#   make install PREFIX=/opt/veach  headers, libveach and its image module, CMake package, veach.pc, `veach`, the add-on
 #   make test-sanitize  the whole suite under ASan + UBSan (build-sanitize/, reduced sample counts)
 #   make test-robustness  robustness tests + the attack suite's multi-GB originals (~3 GB disk)
 #   make fuzz FUZZ_SECONDS=N  libFuzzer on the importer and on load + render (build-fuzz/, clang 14)
