@@ -357,7 +357,8 @@ def light_entry(light, export):
 def export_frame_gltf(depsgraph, path, width=None, height=None, motion=None):
     """Writes the depsgraph's scene at its frame to path (.gltf) and path's .bin beside it;
     returns an Export. width and height (the render's) set the camera's aspect ratio. motion:
-    (times, steps) for motion blur (add_motion); Export.motion says whether anything moves."""
+    (times, steps, shapes) for motion blur (add_motion: emissive meshes are keyed too, and the
+    renderer keeps them at the frame); Export.motion says whether anything moves."""
     export = Export()
     scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
     if width is None or height is None:
