@@ -22,6 +22,10 @@ namespace veach {
 std::vector<std::string> integrator_names() { return {"bdpt", "pt", "lt"}; }
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings) {
+    // One (s, t) strategy is a BDPT notion: with pt or lt it would be ignored, silently.
+    if (settings.integrator != "bdpt" && (settings.bdpt_s >= 0 || settings.bdpt_t >= 0))
+        throw std::invalid_argument("the strategy options bdpt_s/bdpt_t (--bdpt-strategy) apply only to the bdpt "
+                                    "integrator, not " + settings.integrator);
     if (settings.integrator == "pt") return std::make_unique<PathTracer>(settings);
     if (settings.integrator == "bdpt" || settings.integrator == "lt") {
         BdptOptions options;
@@ -76,7 +80,7 @@ uint64_t render_planned_tile(const RenderScene& rs, const Integrator& integrator
 
 }  // namespace
 
-RenderStats render_image(const RenderScene& rs, const Integrator& integrator, const RenderSettings& settings,
+RenderStats render_image(const RenderScene& rs, Integrator& integrator, const RenderSettings& settings,
                          Film& film, const RenderControl& control) {
     using clock = std::chrono::steady_clock;
     auto start = clock::now();
@@ -85,7 +89,7 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
     if (!std::isfinite(settings.noise_target) || settings.noise_target < 0)
         throw std::invalid_argument("--noise must be a finite number, at least 0");
     if (settings.min_spp < 0) throw std::invalid_argument("the adaptive pilot (min spp) must not be negative");
-    const bool adaptive = settings.noise_target > 0 && settings.integrator != "lt";
+    const bool adaptive = settings.noise_target > 0 && integrator.pixels_hold_estimates();
     if (film.has_sample_plan() && (!adaptive || film.plan_target() != settings.noise_target)) {
         char target[32];
         std::snprintf(target, sizeof(target), "%g", static_cast<double>(film.plan_target()));
@@ -171,6 +175,7 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
         double pass_start = elapsed();
         uint32_t begin = static_cast<uint32_t>(done), end = static_cast<uint32_t>(done + n);
         pass_samples = 0;
+        integrator.begin_pass(rs, begin, end, film);
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
                 for (size_t t = r.begin(); t != r.end(); ++t) {
@@ -187,6 +192,7 @@ RenderStats render_image(const RenderScene& rs, const Integrator& integrator, co
             });
         });
         if (stop_tiles) break;
+        integrator.end_pass(rs, begin, end, film);
         done += n;
         if (pass_samples > 0) seconds_per_sample = (elapsed() - pass_start) / static_cast<double>(pass_samples.load());
         pass = std::min(pass * 2, k_max_pass_spp);

@@ -76,20 +76,32 @@ struct ThreadStats {
     uint64_t nonfinite = 0;
 };
 
+// What the driver (render_image) asks of an integrator. Integrators that start their paths at
+// the camera derive from PixelSampleIntegrator (pixel_sample_integrator.h), which owns the pixel x
+// sample loop, and write only the estimate of one pixel sample.
 class Integrator {
 public:
     virtual ~Integrator() = default;
-    // Renders samples [sample_begin, sample_end) of every pixel in `tile` into the film. With
-    // adaptive sampling the driver passes one-row runs of pixels that share a sample range.
+    // Renders samples [sample_begin, sample_end) of every pixel in `tile` into the film, on any
+    // worker thread, tiles concurrently. With adaptive sampling the driver passes one-row runs of
+    // pixels that share a sample range.
     virtual void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
                              Film& film, ThreadStats& stats) const = 0;
+    // Called on the driver's thread before and after each pass of samples [begin, end), while no
+    // tile renders: where a structure every tile of a pass shares is built or updated (a
+    // light-vertex cache, a guiding distribution). Nothing by default.
+    virtual void begin_pass(const RenderScene& rs, uint32_t begin, uint32_t end, Film& film) {}
+    virtual void end_pass(const RenderScene& rs, uint32_t begin, uint32_t end, Film& film) {}
+    // Whether each pixel's camera samples carry its estimate (false when every contribution is a
+    // splat): adaptive sampling judges pixels by them, and is skipped otherwise.
+    virtual bool pixels_hold_estimates() const { return true; }
 };
 
 // Throws std::invalid_argument for an unknown name.
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings);
 std::vector<std::string> integrator_names();
 
-RenderStats render_image(const RenderScene& rs, const Integrator& integrator, const RenderSettings& settings,
+RenderStats render_image(const RenderScene& rs, Integrator& integrator, const RenderSettings& settings,
                          Film& film, const RenderControl& control = {});
 
 }  // namespace veach

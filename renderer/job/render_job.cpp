@@ -111,10 +111,6 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     RenderResult result;
     // Every integrator tracks the media of KHR_materials_volume (pt, bdpt and lt alike).
     RenderSettings chosen = options.render;
-    // One (s, t) strategy is a BDPT notion: with pt or lt it would be ignored, silently.
-    if (chosen.integrator != "bdpt" && (chosen.bdpt_s >= 0 || chosen.bdpt_t >= 0))
-        throw std::invalid_argument("the strategy options bdpt_s/bdpt_t (--bdpt-strategy) apply only to the bdpt "
-                                    "integrator, not " + chosen.integrator);
     result.integrator = chosen.integrator;
     std::unique_ptr<Integrator> integrator = make_integrator(chosen);
 

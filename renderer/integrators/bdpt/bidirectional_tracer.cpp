@@ -54,17 +54,14 @@ public:
     Tracer(const RenderScene& rs, const RenderSettings& settings, const BdptOptions& options, ThreadStats& stats)
         : m_rs(rs),
           m_lights(rs.lights()),
-          m_moving_camera(rs.camera()),
           m_camera(&rs.camera()),
           m_settings(settings),
           m_options(options),
           m_stats(stats) {}
 
-    // Traces one pixel sample at shutter time `time` (both subpaths, and the camera they join,
-    // at that time); returns the camera-side estimate and splats the light-tracing one.
-    Rgb sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, Film& film);
-    // The camera of the last sample (at its shutter time).
-    const CameraModel& camera() const { return *m_camera; }
+    // Traces one pixel sample at shutter time `time` (both subpaths, and `camera`, the camera
+    // they join, at that time); returns the camera-side estimate and splats the light-tracing one.
+    Rgb sample(Workspace& ws, const CameraModel& camera, float fx, float fy, float time, Sampler& rng, Film& film);
 
 private:
     int trace_camera_subpath(Workspace& ws, float fx, float fy, Sampler& rng);
@@ -93,7 +90,6 @@ private:
 
     const RenderScene& m_rs;
     const LightSet& m_lights;
-    CameraModel m_moving_camera;  // a moving camera at the sample's time (camera_at's scratch)
     const CameraModel* m_camera;  // the camera at the sample's shutter time
     float m_time = 0.0f;   // the sample's shutter time, every ray's
     const RenderSettings& m_settings;
@@ -416,8 +412,9 @@ float Tracer::mis_weight(const std::vector<PathVertex>& light, int s, const std:
     return static_cast<float>(1.0 / (1.0 + sum));
 }
 
-Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, Film& film) {
-    m_camera = &m_rs.camera_at(time, m_moving_camera);
+Rgb Tracer::sample(Workspace& ws, const CameraModel& camera, float fx, float fy, float time, Sampler& rng,
+                   Film& film) {
+    m_camera = &camera;
     m_time = time;
     m_shape_radiance = Rgb(0.0f);
     int n_camera = trace_camera_subpath(ws, fx, fy, rng);
@@ -592,29 +589,25 @@ Rgb Tracer::sample(Workspace& ws, float fx, float fy, float time, Sampler& rng, 
 
 }  // namespace
 
-void BidirectionalTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin,
-                                      uint32_t sample_end, Film& film, ThreadStats& stats) const {
+struct BidirectionalTracer::TileState {
     Workspace ws;
-    ws.camera.resize(static_cast<size_t>(m_settings.max_depth) + 2);
-    ws.light.resize(static_cast<size_t>(m_settings.max_depth) + 1);
-    Tracer tracer(rs, m_settings, m_options, stats);
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
-            for (uint32_t s = sample_begin; s < sample_end; ++s) {
-                Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
-                auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
-                const float time = rs.shutter_time(rng);  // one for the whole sample, light subpath too
-                const uint64_t rejected = Accel::rejected_rays_on_this_thread();
-                Rgb l = tracer.sample(ws, fx, fy, time, rng, film);
-                if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {
-                    ++stats.nonfinite;
-                    continue;
-                }
-                add_camera_sample(film, rs, tracer.camera(), x, y, fx, fy, time, l);
-            }
-        }
-    }
+    Tracer tracer;
+};
+
+BidirectionalTracer::TileState BidirectionalTracer::begin_tile(const RenderScene& rs, ThreadStats& stats) const {
+    TileState state{Workspace{}, Tracer(rs, m_settings, m_options, stats)};
+    state.ws.camera.resize(static_cast<size_t>(m_settings.max_depth) + 2);
+    state.ws.light.resize(static_cast<size_t>(m_settings.max_depth) + 1);
+    return state;
 }
+
+// Inline: its one caller is the loop instantiated below, into which it folds.
+inline Rgb BidirectionalTracer::evaluate_pixel_sample(TileState& state, const RenderScene&, const CameraModel& camera,
+                                                      float fx, float fy, float time, Sampler& rng, Film& film,
+                                                      ThreadStats&) const {
+    return state.tracer.sample(state.ws, camera, fx, fy, time, rng, film);
+}
+
+template class PixelSampleIntegrator<BidirectionalTracer>;
 
 }  // namespace veach

@@ -19,7 +19,9 @@
 // weights' optimality is slightly affected.
 #pragma once
 
-#include "integrators/integrator.h"
+#include <memory>
+
+#include "integrators/pixel_sample_integrator.h"
 
 namespace veach {
 
@@ -28,16 +30,29 @@ struct BdptOptions {
     int only_s = -1, only_t = -1;     // `--bdpt-strategy s,t`: one strategy, unweighted
 };
 
-class BidirectionalTracer final : public Integrator {
+class BidirectionalTracer;
+// The loop is instantiated once, in bidirectional_tracer.cpp, where TileState is complete.
+extern template class PixelSampleIntegrator<BidirectionalTracer>;
+
+class BidirectionalTracer final : public PixelSampleIntegrator<BidirectionalTracer> {
 public:
     BidirectionalTracer(const RenderSettings& settings, const BdptOptions& options)
-        : m_settings(settings), m_options(options) {}
-    void render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end, Film& film,
-                     ThreadStats& stats) const override;
+        : PixelSampleIntegrator(settings), m_options(options) {}
+
+    // lt's pixels hold no camera-sample values (every contribution is a splat): nothing for
+    // adaptive sampling to judge.
+    bool pixels_hold_estimates() const override { return !m_options.light_tracing_only; }
+
+    struct TileState;  // subpath storage and the tracer, kept across a tile's samples
+    TileState begin_tile(const RenderScene& rs, ThreadStats& stats) const;
+    // Traces both subpaths of one sample, splats the light-tracing strategies and returns the
+    // camera-side estimate.
+    Rgb evaluate_pixel_sample(TileState& state, const RenderScene& rs, const CameraModel& camera, float fx, float fy,
+                              float time, Sampler& rng, Film& film, ThreadStats& stats) const;
 
 private:
-    RenderSettings m_settings;
     BdptOptions m_options;
 };
+
 
 }  // namespace veach

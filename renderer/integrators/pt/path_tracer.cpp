@@ -1,7 +1,6 @@
 #include "integrators/pt/path_tracer.h"
 
 #include "core/sobol_sampler.h"
-#include "integrators/first_hit_aovs.h"
 #include "integrators/surface_hit.h"
 #include "materials/surface_bsdf.h"
 #include "materials/volume_absorption.h"
@@ -130,30 +129,6 @@ Rgb PathTracer::trace(const RenderScene& rs, const CameraModel& camera, Vec3 ori
     return radiance;
 }
 
-void PathTracer::render_tile(const RenderScene& rs, const Tile& tile, uint32_t sample_begin, uint32_t sample_end,
-                             Film& film, ThreadStats& stats) const {
-    CameraModel moving_camera = rs.camera();  // a moving camera's pose at each sample's time
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            uint64_t pixel = static_cast<uint64_t>(y) * film.width() + x;
-            for (uint32_t s = sample_begin; s < sample_end; ++s) {
-                Sampler rng(m_settings.sampler, m_settings.seed, pixel, s);
-                auto [fx, fy] = film.sample_position(x, y, rng.next_2d());  // drawn from the pixel filter
-                // One shutter time for the whole path: the camera and every ray see the scene then.
-                const float time = rs.shutter_time(rng);
-                const CameraModel& camera = rs.camera_at(time, moving_camera);
-                Vec3 o, d;
-                camera.generate_ray(fx, fy, &o, &d);
-                const uint64_t rejected = Accel::rejected_rays_on_this_thread();
-                Rgb l = trace(rs, camera, o, d, time, rng, stats);
-                if (!l.is_finite() || Accel::rejected_rays_on_this_thread() != rejected) {
-                    ++stats.nonfinite;  // dropped, never written
-                    continue;
-                }
-                add_camera_sample(film, rs, camera, x, y, fx, fy, time, l);
-            }
-        }
-    }
-}
+template class PixelSampleIntegrator<PathTracer>;
 
 }  // namespace veach
