@@ -2,6 +2,7 @@
 
 #include <climits>
 #include <cmath>
+#include <functional>
 
 #include <tiny_gltf.h>
 
@@ -127,14 +128,16 @@ void read_skins(const tinygltf::Model& model, SceneAnimation& out, ImportContext
     }
 }
 
-void read_animations(const tinygltf::Model& model, const std::string& selection, SceneAnimation& out,
+void read_animations(const tinygltf::Model& model, const std::string& selection,
+                     const std::vector<PointerChannel>& pointers, size_t light_count, SceneAnimation& out,
                      ImportContext& context) {
     const AttributeFormat times_format{1, 1, false, false, false};
     // KHR_mesh_quantization allows normalised integers for rotations and weights (and any of its
-    // types for translation and scale); floats always.
+    // types for translation and scale); floats always. Animated properties are floats.
     const AttributeFormat vec3_format{3, 3, true, true, true};
     const AttributeFormat rotation_format{4, 4, true, true, false};
     const AttributeFormat weights_format{1, 1, true, true, false};
+    const AttributeFormat property_format{1, 4, false, false, false};
     for (size_t a = 0; a < model.animations.size(); ++a) {
         const tinygltf::Animation& src = model.animations[a];
         Animation anim;
@@ -142,97 +145,123 @@ void read_animations(const tinygltf::Model& model, const std::string& selection,
         std::string label = "animation " + std::to_string(a) + (src.name.empty() ? "" : " '" + src.name + "'");
         // Samplers are read as channels use them, each once, with the format its path needs.
         std::vector<int> sampler_slot(src.samplers.size(), -1);
+        auto read_sampler = [&](int index, const AttributeFormat& format, const std::function<void(const std::string&)>& skip) {
+            if (!valid_index(index, src.samplers.size())) {
+                skip("names sampler " + std::to_string(index) + ", which does not exist");
+                return -1;
+            }
+            if (sampler_slot[size_t(index)] >= 0) return sampler_slot[size_t(index)];
+            const tinygltf::AnimationSampler& ss = src.samplers[size_t(index)];
+            std::string swhat = label + " sampler " + std::to_string(index);
+            AnimationSampler s;
+            if (ss.interpolation == "LINEAR" || ss.interpolation.empty())
+                s.interpolation = Interpolation::Linear;
+            else if (ss.interpolation == "STEP")
+                s.interpolation = Interpolation::Step;
+            else if (ss.interpolation == "CUBICSPLINE")
+                s.interpolation = Interpolation::CubicSpline;
+            else {
+                skip("uses interpolation '" + ss.interpolation + "'");
+                return -1;
+            }
+            FloatAccessor in = read_float_accessor(model, ss.input, times_format, swhat + " input", context);
+            FloatAccessor values = read_float_accessor(model, ss.output, format, swhat + " output", context);
+            bool ordered = in.count > 0;
+            for (size_t k = 0; k < in.count; ++k)
+                ordered = ordered && std::isfinite(in.values[k]) && (k == 0 || in.values[k] > in.values[k - 1]);
+            if (!ordered) {
+                skip("has key times that are not finite and strictly increasing");
+                return -1;
+            }
+            size_t per_key = values.count / in.count;
+            size_t elements = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
+            if (values.count % (in.count * elements) != 0 || per_key < elements) {
+                skip("has " + std::to_string(values.count) + " output values for " + std::to_string(in.count) + " keys");
+                return -1;
+            }
+            for (float v : values.values)
+                if (!std::isfinite(v)) {
+                    skip("has output values that are not finite");
+                    return -1;
+                }
+            s.times = std::move(in.values);
+            // Weights: one scalar per morph target per key (three with tangents).
+            s.components = values.components * int(per_key / elements);
+            s.values = std::move(values.values);
+            sampler_slot[size_t(index)] = int(anim.samplers.size());
+            anim.samplers.push_back(std::move(s));
+            return sampler_slot[size_t(index)];
+        };
+        // A node's translation, rotation, scale or weights, from a channel or a pointer.
+        auto add_node_channel = [&](int node, AnimatedPath path, int sampler, const std::function<void(const std::string&)>& skip) {
+            if (!valid_index(node, model.nodes.size())) {
+                skip("targets node " + std::to_string(node) + ", which does not exist");
+                return;
+            }
+            if (path != AnimatedPath::Weights && !model.nodes[size_t(node)].matrix.empty()) {
+                skip("animates a node given by a matrix (glTF forbids it)");
+                return;
+            }
+            const AttributeFormat& format = path == AnimatedPath::Rotation ? rotation_format
+                                            : path == AnimatedPath::Weights ? weights_format
+                                                                            : vec3_format;
+            int slot = read_sampler(sampler, format, skip);
+            if (slot < 0) return;
+            if (path == AnimatedPath::Weights) {
+                size_t targets = target_count(model, model.nodes[size_t(node)].mesh);
+                if (size_t(anim.samplers[size_t(slot)].components) != targets) {
+                    skip("has " + std::to_string(anim.samplers[size_t(slot)].components) +
+                         " weights per key for a mesh of " + std::to_string(targets) + " morph targets");
+                    return;
+                }
+            }
+            anim.channels.push_back(AnimationChannel{node, path, slot});
+        };
         for (size_t c = 0; c < src.channels.size(); ++c) {
             const tinygltf::AnimationChannel& ch = src.channels[c];
             std::string what = label + " channel " + std::to_string(c);
             auto skip = [&](const std::string& why) { context.warn(what + " " + why + "; ignored"); };
-            if (!valid_index(ch.target_node, model.nodes.size())) {
-                skip("has no target node (KHR_animation_pointer is not supported)");
-                continue;
-            }
-            AnimationChannel out_ch;
-            out_ch.node = ch.target_node;
-            const AttributeFormat* format = nullptr;
-            if (ch.target_path == "translation") {
-                out_ch.path = AnimatedPath::Translation;
-                format = &vec3_format;
-            } else if (ch.target_path == "rotation") {
-                out_ch.path = AnimatedPath::Rotation;
-                format = &rotation_format;
-            } else if (ch.target_path == "scale") {
-                out_ch.path = AnimatedPath::Scale;
-                format = &vec3_format;
-            } else if (ch.target_path == "weights") {
-                out_ch.path = AnimatedPath::Weights;
-                format = &weights_format;
-            } else {
+            AnimatedPath path;
+            if (ch.target_path == "translation") path = AnimatedPath::Translation;
+            else if (ch.target_path == "rotation") path = AnimatedPath::Rotation;
+            else if (ch.target_path == "scale") path = AnimatedPath::Scale;
+            else if (ch.target_path == "weights") path = AnimatedPath::Weights;
+            else {
                 skip("animates '" + ch.target_path + "'");
                 continue;
             }
-            if (out_ch.path != AnimatedPath::Weights && !model.nodes[size_t(ch.target_node)].matrix.empty()) {
-                skip("animates a node given by a matrix (glTF forbids it)");
+            add_node_channel(ch.target_node, path, ch.sampler, skip);
+        }
+        for (const PointerChannel& pc : pointers) {
+            if (pc.animation != a) continue;
+            std::string what = label + " channel animating " + (pc.pointer.empty() ? "no pointer" : pc.pointer);
+            auto skip = [&](const std::string& why) { context.warn(what + " " + why + "; ignored"); };
+            std::optional<PointerTarget> target = parse_animation_pointer(pc.pointer);
+            if (!target) {
+                skip("(KHR_animation_pointer) is not evaluated");
                 continue;
             }
-            if (!valid_index(ch.sampler, src.samplers.size())) {
-                skip("names sampler " + std::to_string(ch.sampler) + ", which does not exist");
+            if (!target->property) {
+                add_node_channel(target->node, target->path, pc.sampler, skip);
                 continue;
             }
-            if (sampler_slot[size_t(ch.sampler)] < 0) {
-                const tinygltf::AnimationSampler& ss = src.samplers[size_t(ch.sampler)];
-                std::string swhat = label + " sampler " + std::to_string(ch.sampler);
-                AnimationSampler s;
-                if (ss.interpolation == "LINEAR" || ss.interpolation.empty())
-                    s.interpolation = Interpolation::Linear;
-                else if (ss.interpolation == "STEP")
-                    s.interpolation = Interpolation::Step;
-                else if (ss.interpolation == "CUBICSPLINE")
-                    s.interpolation = Interpolation::CubicSpline;
-                else {
-                    skip("uses interpolation '" + ss.interpolation + "'");
-                    continue;
-                }
-                FloatAccessor in = read_float_accessor(model, ss.input, times_format, swhat + " input", context);
-                FloatAccessor values = read_float_accessor(model, ss.output, *format, swhat + " output", context);
-                bool ordered = in.count > 0;
-                for (size_t k = 0; k < in.count; ++k)
-                    ordered = ordered && std::isfinite(in.values[k]) && (k == 0 || in.values[k] > in.values[k - 1]);
-                if (!ordered) {
-                    skip("has key times that are not finite and strictly increasing");
-                    continue;
-                }
-                size_t per_key = values.count / in.count;
-                size_t elements = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
-                if (values.count % (in.count * elements) != 0 || per_key < elements) {
-                    skip("has " + std::to_string(values.count) + " output values for " + std::to_string(in.count) +
-                         " keys");
-                    continue;
-                }
-                for (float v : values.values)
-                    if (!std::isfinite(v)) {
-                        ordered = false;
-                        break;
-                    }
-                if (!ordered) {
-                    skip("has output values that are not finite");
-                    continue;
-                }
-                s.times = std::move(in.values);
-                // Weights: one scalar per morph target per key (three with tangents).
-                s.components = values.components * int(per_key / elements);
-                s.values = std::move(values.values);
-                sampler_slot[size_t(ch.sampler)] = int(anim.samplers.size());
-                anim.samplers.push_back(std::move(s));
+            AnimatedProperty p = *target->property;
+            size_t targets = p <= AnimatedProperty::AlphaCutoff    ? model.materials.size()
+                             : p <= AnimatedProperty::SpotOuterCone ? light_count
+                                                                    : model.cameras.size();
+            if (!valid_index(target->target, targets)) {
+                skip("points at something the file does not have");
+                continue;
             }
-            out_ch.sampler = sampler_slot[size_t(ch.sampler)];
-            if (out_ch.path == AnimatedPath::Weights) {
-                size_t targets = target_count(model, model.nodes[size_t(ch.target_node)].mesh);
-                if (size_t(anim.samplers[size_t(out_ch.sampler)].components) != targets) {
-                    skip("has " + std::to_string(anim.samplers[size_t(out_ch.sampler)].components) +
-                         " weights per key for a mesh of " + std::to_string(targets) + " morph targets");
-                    continue;
-                }
+            int slot = read_sampler(pc.sampler, property_format, skip);
+            if (slot < 0) continue;
+            int components = anim.samplers[size_t(slot)].components;
+            if (components != animated_property_components(p)) {
+                skip("has " + std::to_string(components) + " values per key for a property of " +
+                     std::to_string(animated_property_components(p)));
+                continue;
             }
-            anim.channels.push_back(out_ch);
+            anim.properties.push_back(PropertyChannel{p, target->target, slot});
         }
         out.animations.push_back(std::move(anim));
     }
@@ -265,24 +294,51 @@ std::shared_ptr<const std::vector<MorphTarget>> read_morph_targets(const tinyglt
     if (prim.targets.empty()) return nullptr;
     // Deltas may be quantised (KHR_mesh_quantization: normalised or plain integers).
     const AttributeFormat delta_format{3, 3, true, true, true};
+    const AttributeFormat uv_delta_format{2, 2, true, true, false};
+    const AttributeFormat color_delta_format{3, 4, true, true, false};
     auto targets = std::make_shared<std::vector<MorphTarget>>(prim.targets.size());
+    auto finite = [](const float* v, int n) {
+        for (int k = 0; k < n; ++k)
+            if (!std::isfinite(v[k])) return false;
+        return true;
+    };
     for (size_t t = 0; t < prim.targets.size(); ++t) {
+        MorphTarget& target = (*targets)[t];
         for (const auto& [name, accessor] : prim.targets[t]) {
-            std::vector<Vec3>* dst = name == "POSITION" ? &(*targets)[t].positions
-                                     : name == "NORMAL" ? &(*targets)[t].normals
-                                     : name == "TANGENT" ? &(*targets)[t].tangents
+            std::vector<Vec3>* dst = name == "POSITION" ? &target.positions
+                                     : name == "NORMAL" ? &target.normals
+                                     : name == "TANGENT" ? &target.tangents
                                                          : nullptr;
-            if (!dst) continue;  // TEXCOORD_n, COLOR_n deltas are not applied
+            std::vector<Vec2>* uv = name == "TEXCOORD_0" ? &target.uv0 : name == "TEXCOORD_1" ? &target.uv1 : nullptr;
+            bool color = name == "COLOR_0";
+            if (!dst && !uv && !color) continue;  // attributes the renderer does not read
             std::string where = what + " target " + std::to_string(t) + " " + name;
-            FloatAccessor a = read_float_accessor(model, accessor, delta_format, where, context);
+            FloatAccessor a = read_float_accessor(model, accessor,
+                                                  dst ? delta_format : uv ? uv_delta_format : color_delta_format, where,
+                                                  context);
             if (a.count != vertices)
                 throw GltfError(where + ": " + std::to_string(a.count) + " elements, but POSITION has " +
                                 std::to_string(vertices));
-            dst->resize(vertices);
-            for (size_t i = 0; i < vertices; ++i) {
-                const float* v = &a.values[3 * i];
-                (*dst)[i] = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) ? Vec3(v[0], v[1], v[2])
-                                                                                               : Vec3(0, 0, 0);
+            const int c = a.components;
+            // A non-finite delta moves nothing (the vertex keeps its value).
+            if (dst) {
+                dst->resize(vertices);
+                for (size_t i = 0; i < vertices; ++i) {
+                    const float* v = &a.values[3 * i];
+                    (*dst)[i] = finite(v, 3) ? Vec3(v[0], v[1], v[2]) : Vec3(0, 0, 0);
+                }
+            } else if (uv) {
+                uv->resize(vertices);
+                for (size_t i = 0; i < vertices; ++i) {
+                    const float* v = &a.values[2 * i];
+                    (*uv)[i] = finite(v, 2) ? Vec2{v[0], v[1]} : Vec2{0, 0};
+                }
+            } else {
+                target.colors.resize(vertices);
+                for (size_t i = 0; i < vertices; ++i) {
+                    const float* v = &a.values[size_t(c) * i];
+                    target.colors[i] = finite(v, c) ? Rgba{v[0], v[1], v[2], c == 4 ? v[3] : 0.0f} : Rgba{0, 0, 0, 0};
+                }
             }
         }
     }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "importers/gltf/gltf_accessors.h"
+#include "importers/gltf/gltf_animation_pointer.h"
 #include "scene/scene_animation.h"
 
 namespace tinygltf {
@@ -25,9 +26,12 @@ void read_skins(const tinygltf::Model& model, SceneAnimation& out, ImportContext
 
 // Every animation, and the one `selection` names ("all" or empty: -1, all at once; else a name,
 // then an index). A selection the file lacks is a GltfError listing its animations. A channel
-// that cannot be evaluated (no node, a matrix node, keys out of order, too few values) is
-// skipped with a warning.
-void read_animations(const tinygltf::Model& model, const std::string& selection, SceneAnimation& out,
+// that cannot be evaluated (no node, a matrix node, keys out of order, too few values, a
+// pointer to something not evaluated) is skipped with a warning. `pointers` are the file's
+// KHR_animation_pointer channels (gltf_animation_pointer.h); `light_count` its
+// KHR_lights_punctual lights.
+void read_animations(const tinygltf::Model& model, const std::string& selection,
+                     const std::vector<PointerChannel>& pointers, size_t light_count, SceneAnimation& out,
                      ImportContext& context);
 
 // The morph targets of a primitive of `vertices` vertices (POSITION, NORMAL, TANGENT deltas;

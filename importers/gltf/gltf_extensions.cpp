@@ -19,6 +19,7 @@ constexpr std::string_view k_supported[] = {
     "KHR_texture_transform",      "EXT_mesh_gpu_instancing",
     "EXT_meshopt_compression",
     "EXT_texture_webp",           "VEACH_lights_blender",
+    "KHR_animation_pointer",  // material factors, light colour and intensity, camera fields (README)
 };
 
 }  // namespace

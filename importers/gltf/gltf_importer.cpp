@@ -34,6 +34,7 @@
 #include "importers/gltf/gltf_json_chunk.h"
 #include "importers/gltf/gltf_materials.h"
 #include "importers/gltf/gltf_meshopt.h"
+#include "scene/light_units.h"
 #include "scene/mesh_tangents.h"
 
 namespace veach {
@@ -410,13 +411,18 @@ public:
             anim.enabled = true;
             gltf::read_nodes(m_model, anim, *m_context);
             gltf::read_skins(m_model, anim, *m_context);
-            gltf::read_animations(m_model, m_options.animation, anim, *m_context);
+            gltf::read_animations(m_model, m_options.animation, m_pointer_channels, m_lights.size(), anim,
+                                  *m_context);
+            for (const LightDef& def : m_lights)
+                anim.light_rest.push_back(LightRest{def.color, float(def.intensity), float(def.inner_cone),
+                                                    float(def.outer_cone)});
         }
         m_mesh_entries.resize(m_model.meshes.size());
         m_mesh_uses.assign(m_model.meshes.size(), 0);
         m_visited.assign(m_model.nodes.size(), 0);
         m_on_path.assign(m_model.nodes.size(), 0);
         for (int root : root_nodes()) visit(root, Transform{}, 0, -1);
+        if (m_options.animate) record_material_rest();
         finish();
         return std::move(m_scene);
     }
@@ -437,6 +443,9 @@ private:
     void add_camera(int node_index, const Transform& world);
     void add_light(int node_index, const tinygltf::Value& ref, const Transform& world, int placement);
     std::optional<PunctualLight> make_light(int node_index, const tinygltf::Value& ref, const Transform& world);
+    // Rest values of the materials KHR_animation_pointer channels animate (after the visit,
+    // when the materials the primitives use are converted).
+    void record_material_rest();
     void finish();
     std::string node_label(int index) const {
         const std::string& name = m_model.nodes[index].name;
@@ -449,6 +458,7 @@ private:
     Scene m_scene;
     std::unique_ptr<gltf::ImportContext> m_context;
     std::unique_ptr<gltf::MaterialConverter> m_materials;
+    std::vector<gltf::PointerChannel> m_pointer_channels;  // KHR_animation_pointer, read when animating
     std::vector<std::optional<std::vector<uint32_t>>> m_mesh_entries;  // glTF mesh -> Scene::meshes
     std::vector<int> m_mesh_uses;
     std::vector<uint8_t> m_visited, m_on_path;
@@ -473,6 +483,7 @@ void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
         if (patched->size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
         bytes = *patched;
     }
+    if (m_options.animate) m_pointer_channels = gltf::read_pointer_channels(gltf::json_chunk(bytes, binary));
     for (const std::string& uri : gltf::unused_image_uris(gltf::json_chunk(bytes, binary)))
         m_uri_policy.zero_files.emplace(uri, 1);
     std::optional<std::vector<uint8_t>> with_fallbacks =
@@ -1057,6 +1068,8 @@ void GltfImporter::add_camera(int node_index, const Transform& world) {
         return;
     }
     m_scene.cameras.push_back(cam);
+    if (m_options.animate)
+        m_scene.animation.camera_rest.push_back(CameraRest{node.camera, cam.yfov, cam.xmag, cam.ymag});
 }
 
 void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const Transform& world, int placement) {
@@ -1073,7 +1086,7 @@ void GltfImporter::add_light(int node_index, const tinygltf::Value& ref, const T
     SceneAnimation& anim = m_scene.animation;
     anim.placements[size_t(placement)].light = static_cast<int>(anim.lights.size());
     anim.lights.push_back(LocalLight{std::make_shared<const PunctualLight>(std::move(*local)),
-                                     def.color * float(def.power / 4.0)});
+                                     def.color * float(def.power / 4.0), index});
 }
 
 std::optional<PunctualLight> GltfImporter::make_light(int node_index, const tinygltf::Value& ref,
@@ -1088,9 +1101,7 @@ std::optional<PunctualLight> GltfImporter::make_light(int node_index, const tiny
     const std::string& node_name = m_model.nodes[node_index].name;
     light.name = !def.name.empty() ? def.name : !node_name.empty() ? node_name : "light " + std::to_string(index);
     light.type = *def.type;
-    // Blender writes W/(4 pi) x 683 lm/W (point, spot) and W/m^2 x 683 (sun); Cycles' units
-    // are the radiometric ones.
-    light.intensity = def.color * float(def.intensity / 683.0);
+    light.intensity = radiometric_intensity(def.color, def.intensity);
     light.position = world.point(Vec3(0, 0, 0));
     Vec3 axis = world.vector(Vec3(0, 0, -1));
     float len = length(axis);
@@ -1099,12 +1110,7 @@ std::optional<PunctualLight> GltfImporter::make_light(int node_index, const tiny
     else if (light.type != LightType::Point)
         m_context->warn(light.name + ": degenerate direction; using -Z");
     if (light.type == LightType::Spot) {
-        double outer = std::clamp(def.outer_cone, 0.0, double(k_pi) / 2);
-        double inner = std::clamp(def.inner_cone, 0.0, outer);
-        light.cos_outer = float(std::cos(outer));
-        light.cos_inner = float(std::cos(inner));
-        // Blender exports inner = outer x (1 - blend).
-        light.blend = outer > 0 ? float(1.0 - inner / outer) : 0.0f;
+        set_spot_cone(light, def.inner_cone, def.outer_cone);
         light.falloff = m_spot_falloff;
     }
     light.range = def.range > 0 ? float(def.range) : 0.0f;
@@ -1125,6 +1131,15 @@ std::optional<PunctualLight> GltfImporter::make_light(int node_index, const tiny
         light.intensity = Rgb(0.0f);
     }
     return light;
+}
+
+void GltfImporter::record_material_rest() {
+    SceneAnimation& anim = m_scene.animation;
+    bool any = false;
+    for (const Animation& a : anim.animations)
+        for (const PropertyChannel& p : a.properties) any = any || p.property <= AnimatedProperty::AlphaCutoff;
+    if (!any) return;
+    for (size_t m = 0; m < m_model.materials.size(); ++m) anim.material_rest.push_back(m_materials->rest(int(m)));
 }
 
 void GltfImporter::finish() {

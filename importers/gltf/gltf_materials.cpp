@@ -91,7 +91,10 @@ struct StbFree {
 }  // namespace
 
 MaterialConverter::MaterialConverter(const tinygltf::Model& model, ImportContext& context)
-    : m_model(model), m_context(context), m_material_slots(model.materials.size(), -1) {}
+    : m_model(model),
+      m_context(context),
+      m_material_slots(model.materials.size(), -1),
+      m_emissive(model.materials.size(), {Rgb(0.0f), 1.0f}) {}
 
 int32_t MaterialConverter::material(int index) {
     if (index < 0 || static_cast<size_t>(index) >= m_model.materials.size())
@@ -103,6 +106,22 @@ int32_t MaterialConverter::material(int index) {
         m_context.scene.materials.push_back(std::move(converted));
     }
     return m_material_slots[index];
+}
+
+MaterialRest MaterialConverter::rest(int index) const {
+    MaterialRest r;
+    if (index < 0 || size_t(index) >= m_material_slots.size() || m_material_slots[size_t(index)] < 0) return r;
+    r.material = m_material_slots[size_t(index)];
+    const Material& m = m_context.scene.materials[size_t(r.material)];
+    r.unlit = m.unlit;
+    r.base_color = m.unlit ? m.emission : m.base_color;  // unlit moved its base colour into the emission
+    r.base_alpha = m.base_alpha;
+    r.metallic = m.metallic;
+    r.roughness = m.roughness;
+    r.emissive_factor = m_emissive[size_t(index)].first;
+    r.emissive_strength = m_emissive[size_t(index)].second;
+    r.alpha_cutoff = m.alpha_cutoff;
+    return r;
 }
 
 Material MaterialConverter::convert(int index) {
@@ -149,6 +168,7 @@ Material MaterialConverter::convert(int index) {
     double strength = in_range(json_number(strength_ext, "emissiveStrength", 1.0), 0.0, k_max_emission_strength,
                                "emissiveStrength", m_context);
     m.emission = to_rgb(emissive) * static_cast<float>(strength);
+    m_emissive[size_t(index)] = {to_rgb(emissive), static_cast<float>(strength)};
     m.emissive_texture = texture_ref(info(src.emissiveTexture), ColorSpace::Srgb, what + " emissiveTexture");
 
     m.normal_texture = texture_ref(info(src.normalTexture), ColorSpace::Linear, what + " normalTexture");

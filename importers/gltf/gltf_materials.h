@@ -29,6 +29,11 @@ public:
     // The Scene::materials index of glTF material `index`, converting it the first time.
     int32_t material(int index);
 
+    // What KHR_animation_pointer channels on glTF material `index` start from: its factors as
+    // converted (clamped to the spec's ranges) and its Scene::materials index, -1 when no
+    // primitive used it.
+    MaterialRest rest(int index) const;
+
 private:
     // A textureInfo's fields, from tinygltf's structs or from an extension's JSON value.
     struct TextureInfoFields {
@@ -50,6 +55,7 @@ private:
     const tinygltf::Model& m_model;
     ImportContext& m_context;
     std::vector<int32_t> m_material_slots;                     // glTF material -> scene index, -1 = not yet
+    std::vector<std::pair<Rgb, float>> m_emissive;             // glTF material -> emissiveFactor, strength
     std::map<std::pair<int, ColorSpace>, int32_t> m_textures;  // (glTF texture, space) -> scene index
 };
 

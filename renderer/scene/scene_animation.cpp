@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/light_units.h"
 #include "scene/scene.h"
 
 namespace veach {
@@ -97,7 +98,110 @@ bool finite_light(const PunctualLight& l) {
            std::isfinite(l.radiance.r) && std::isfinite(l.radiance.g) && std::isfinite(l.radiance.b);
 }
 
+float clamped(float v, float lo, float hi) { return std::isfinite(v) ? std::clamp(v, lo, hi) : lo; }
+Rgb clamped(const Rgb& c, float lo, float hi) { return {clamped(c.r, lo, hi), clamped(c.g, lo, hi), clamped(c.b, lo, hi)}; }
+
+// The animated values of KHR_animation_pointer properties at a time: rest values, then every
+// selected animation's channels.
+struct PropertyValues {
+    std::vector<MaterialRest> materials;
+    std::vector<LightRest> lights;
+    std::vector<CameraRest> cameras;
+};
+
+PropertyValues animated_properties(const SceneAnimation& a, double seconds) {
+    PropertyValues v{a.material_rest, a.light_rest, a.camera_rest};
+    for (size_t i = 0; i < a.animations.size(); ++i) {
+        if (a.selected >= 0 && size_t(a.selected) != i) continue;
+        const Animation& anim = a.animations[i];
+        for (const PropertyChannel& pc : anim.properties) {
+            float x[4] = {0, 0, 0, 0};
+            sample_animation(anim.samplers[size_t(pc.sampler)], seconds, false, x);
+            const size_t t = size_t(pc.target);
+            MaterialRest* m = t < v.materials.size() ? &v.materials[t] : nullptr;
+            LightRest* l = t < v.lights.size() ? &v.lights[t] : nullptr;
+            switch (pc.property) {
+                case AnimatedProperty::BaseColor:
+                    if (m) m->base_color = Rgb(x[0], x[1], x[2]), m->base_alpha = x[3];
+                    break;
+                case AnimatedProperty::Metallic: if (m) m->metallic = x[0]; break;
+                case AnimatedProperty::Roughness: if (m) m->roughness = x[0]; break;
+                case AnimatedProperty::EmissiveFactor: if (m) m->emissive_factor = Rgb(x[0], x[1], x[2]); break;
+                case AnimatedProperty::EmissiveStrength: if (m) m->emissive_strength = x[0]; break;
+                case AnimatedProperty::AlphaCutoff: if (m) m->alpha_cutoff = x[0]; break;
+                case AnimatedProperty::LightColor: if (l) l->color = Rgb(x[0], x[1], x[2]); break;
+                case AnimatedProperty::LightIntensity: if (l) l->intensity = x[0]; break;
+                case AnimatedProperty::SpotInnerCone: if (l) l->inner_cone = x[0]; break;
+                case AnimatedProperty::SpotOuterCone: if (l) l->outer_cone = x[0]; break;
+                case AnimatedProperty::CameraYfov:
+                case AnimatedProperty::CameraXmag:
+                case AnimatedProperty::CameraYmag:
+                    for (CameraRest& c : v.cameras) {
+                        if (c.source != pc.target) continue;
+                        (pc.property == AnimatedProperty::CameraYfov   ? c.yfov
+                         : pc.property == AnimatedProperty::CameraXmag ? c.xmag
+                                                                       : c.ymag) = x[0];
+                    }
+                    break;
+            }
+        }
+    }
+    return v;
+}
+
+// Writes animated material factors into the scene, held to the ranges the import holds the
+// file's to (factors in [0, 1], emission strength up to 1e9), so a material at its rest values
+// is bit for bit the one the import made.
+void apply_material(Material& m, const MaterialRest& v) {
+    Rgb base = clamped(v.base_color, 0.0f, 1.0f);
+    if (v.unlit) {
+        m.emission = base;  // unlit: the base colour is what is seen (gltf_materials.cpp)
+    } else {
+        m.base_color = base;
+        m.metallic = clamped(v.metallic, 0.0f, 1.0f);
+        m.roughness = clamped(v.roughness, 0.0f, 1.0f);
+        m.emission = clamped(v.emissive_factor, 0.0f, 1.0f) * clamped(v.emissive_strength, 0.0f, 1e9f);
+    }
+    m.base_alpha = clamped(v.base_alpha, 0.0f, 1.0f);
+    if (std::isfinite(v.alpha_cutoff)) m.alpha_cutoff = v.alpha_cutoff;  // as the import takes it
+}
+
+// The local light with animated colour, intensity and cone. An area light's power was given in
+// watts by VEACH_lights_blender, not by the intensity: it is scaled by the animated colour x
+// intensity over the rest one (per channel, where the rest is not black).
+LocalLight relit(const LocalLight& l, const LightRest& rest, const LightRest& now) {
+    if (now.color.r == rest.color.r && now.color.g == rest.color.g && now.color.b == rest.color.b &&
+        now.intensity == rest.intensity && now.inner_cone == rest.inner_cone && now.outer_cone == rest.outer_cone)
+        return l;
+    PunctualLight light = *l.local;
+    LocalLight out = l;
+    Rgb color = clamped(now.color, 0.0f, 1e30f);
+    float intensity = clamped(now.intensity, 0.0f, 1e30f);
+    if (light.type == LightType::Area) {
+        auto ratio = [&](float c, float c0) {
+            float r0 = c0 * rest.intensity;
+            return r0 > 0 ? c * intensity / r0 : 1.0f;
+        };
+        out.area_power = Rgb(l.area_power.r * ratio(color.r, rest.color.r), l.area_power.g * ratio(color.g, rest.color.g),
+                             l.area_power.b * ratio(color.b, rest.color.b));
+    } else {
+        light.intensity = radiometric_intensity(color, intensity);
+    }
+    if (light.type == LightType::Spot) set_spot_cone(light, now.inner_cone, now.outer_cone);
+    out.local = std::make_shared<const PunctualLight>(std::move(light));
+    return out;
+}
+
 }  // namespace
+
+int animated_property_components(AnimatedProperty p) {
+    switch (p) {
+        case AnimatedProperty::BaseColor: return 4;
+        case AnimatedProperty::EmissiveFactor:
+        case AnimatedProperty::LightColor: return 3;
+        default: return 1;
+    }
+}
 
 Transform NodePose::local() const {
     if (has_matrix) return matrix;
@@ -206,10 +310,26 @@ void pose_scene(Scene& scene, double seconds) {
                 pl.instance_offsets.empty() ? world[p] : world[p] * pl.instance_offsets[k];
         if (pl.camera >= 0) scene.cameras[size_t(pl.camera)].camera_to_world = world[p];
     }
+    // KHR_animation_pointer properties: materials, then lights and cameras as they are placed.
+    const PropertyValues values = animated_properties(a, seconds);
+    for (const MaterialRest& m : values.materials)
+        if (m.material >= 0 && size_t(m.material) < scene.materials.size())
+            apply_material(scene.materials[size_t(m.material)], m);
+    for (size_t c = 0; c < values.cameras.size() && c < scene.cameras.size(); ++c) {
+        Camera& cam = scene.cameras[c];
+        const CameraRest& v = values.cameras[c];
+        if (v.yfov > 0.0f && v.yfov < k_pi) cam.yfov = v.yfov;  // else the last valid one stays
+        if (std::isfinite(v.xmag) && v.xmag != 0.0f) cam.xmag = v.xmag;
+        if (std::isfinite(v.ymag) && v.ymag != 0.0f) cam.ymag = v.ymag;
+    }
     scene.lights.clear();
     for (size_t p = 0; p < a.placements.size(); ++p) {
         if (a.placements[p].light < 0) continue;
-        PunctualLight light = place_light(a.lights[size_t(a.placements[p].light)], world[p]);
+        const LocalLight& local = a.lights[size_t(a.placements[p].light)];
+        const size_t source = size_t(local.source);
+        PunctualLight light = local.source >= 0 && source < values.lights.size()
+                                  ? place_light(relit(local, a.light_rest[source], values.lights[source]), world[p])
+                                  : place_light(local, world[p]);
         if (finite_light(light)) scene.lights.push_back(std::move(light));
     }
 
@@ -228,6 +348,12 @@ void pose_scene(Scene& scene, double seconds) {
             d.rest_positions = mesh.positions;
             d.rest_normals = mesh.normals;
             d.rest_tangents = mesh.tangents;
+            if (d.targets)
+                for (const MorphTarget& target : *d.targets) {
+                    if (!target.uv0.empty()) d.rest_uv0 = mesh.uv0;
+                    if (!target.uv1.empty()) d.rest_uv1 = mesh.uv1;
+                    if (!target.colors.empty()) d.rest_colors = mesh.colors;
+                }
             d.captured = true;
         }
         const size_t n = d.rest_positions.size();
@@ -237,6 +363,10 @@ void pose_scene(Scene& scene, double seconds) {
         P = d.rest_positions;
         N = d.rest_normals;
         T = d.rest_tangents;
+        // Texture coordinates and colours only when a target moves them (rest_* non-empty).
+        if (!d.rest_uv0.empty()) mesh.uv0 = d.rest_uv0;
+        if (!d.rest_uv1.empty()) mesh.uv1 = d.rest_uv1;
+        if (!d.rest_colors.empty()) mesh.colors = d.rest_colors;
         // Morph targets first, in the mesh's own space (glTF: deltas, then the skin).
         if (d.targets) {
             const std::vector<float>& w = weights[size_t(a.placements[size_t(d.placement)].node)];
@@ -250,7 +380,23 @@ void pose_scene(Scene& scene, double seconds) {
                     for (size_t i = 0; i < n; ++i) N[i] += target.normals[i] * wk;
                 if (target.tangents.size() == n && T.size() == n)
                     for (size_t i = 0; i < n; ++i) T[i] += target.tangents[i] * wk;
+                auto add_uv = [&](const std::vector<Vec2>& delta, std::vector<Vec2>& uv) {
+                    if (delta.size() != n || uv.size() != n) return;
+                    for (size_t i = 0; i < n; ++i) uv[i] = Vec2{uv[i].x + wk * delta[i].x, uv[i].y + wk * delta[i].y};
+                };
+                add_uv(target.uv0, mesh.uv0);
+                add_uv(target.uv1, mesh.uv1);
+                if (target.colors.size() == n && mesh.colors.size() == n)
+                    for (size_t i = 0; i < n; ++i) {
+                        Rgba& c = mesh.colors[i];
+                        const Rgba& dc = target.colors[i];
+                        c = Rgba{c.r + wk * dc.r, c.g + wk * dc.g, c.b + wk * dc.b, c.a + wk * dc.a};
+                    }
             }
+            for (Rgba& c : mesh.colors)
+                if (!d.rest_colors.empty())
+                    c = Rgba{clamped(c.r, 0.0f, 1.0f), clamped(c.g, 0.0f, 1.0f), clamped(c.b, 0.0f, 1.0f),
+                             clamped(c.a, 0.0f, 1.0f)};
         }
         if (d.skin >= 0) {
             // Skinned vertices are in world space: the mesh node's own transform is ignored.

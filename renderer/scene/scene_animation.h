@@ -56,10 +56,61 @@ struct AnimationChannel {
     int sampler = 0;
 };
 
+// KHR_animation_pointer: a property other than a node's transform or weights, by the file's
+// index of what holds it (a material, a KHR_lights_punctual light, a camera). The sampler's
+// components are the property's (4 for a base colour, 3 for colours, 1 for scalars).
+enum class AnimatedProperty : uint8_t {
+    BaseColor,         // /materials/M/pbrMetallicRoughness/baseColorFactor (RGBA)
+    Metallic,          // .../metallicFactor
+    Roughness,         // .../roughnessFactor
+    EmissiveFactor,    // /materials/M/emissiveFactor (RGB)
+    EmissiveStrength,  // /materials/M/extensions/KHR_materials_emissive_strength/emissiveStrength
+    AlphaCutoff,       // /materials/M/alphaCutoff
+    LightColor,        // /extensions/KHR_lights_punctual/lights/L/color (RGB)
+    LightIntensity,    // .../intensity
+    SpotInnerCone,     // .../spot/innerConeAngle
+    SpotOuterCone,     // .../spot/outerConeAngle
+    CameraYfov,        // /cameras/C/perspective/yfov
+    CameraXmag,        // /cameras/C/orthographic/xmag
+    CameraYmag,        // /cameras/C/orthographic/ymag
+};
+int animated_property_components(AnimatedProperty p);
+
+struct PropertyChannel {
+    AnimatedProperty property = AnimatedProperty::BaseColor;
+    int target = 0;  // the file's material, light or camera index
+    int sampler = 0;
+};
+
 struct Animation {
     std::string name;
     std::vector<AnimationSampler> samplers;
     std::vector<AnimationChannel> channels;
+    std::vector<PropertyChannel> properties;
+};
+
+// What property channels start from, by the file's index: the factors as the file gives them
+// (an emission is emissiveFactor x emissiveStrength, so both are kept), and where the material
+// ended up in Scene::materials (-1: no primitive uses it).
+struct MaterialRest {
+    int32_t material = -1;
+    Rgb base_color{1, 1, 1};
+    float base_alpha = 1, metallic = 1, roughness = 1;
+    Rgb emissive_factor{0, 0, 0};
+    float emissive_strength = 1;
+    float alpha_cutoff = 0.5f;
+    bool unlit = false;  // KHR_materials_unlit: the base colour is the emission
+};
+
+struct LightRest {
+    Rgb color{1, 1, 1};
+    float intensity = 1;                  // the file's (candela, lux)
+    float inner_cone = 0, outer_cone = 0; // spot: radians
+};
+
+struct CameraRest {
+    int source = -1;  // the file's camera placed as this Scene::cameras entry
+    float yfov = 0, xmag = 0, ymag = 0;
 };
 
 struct SkinData {
@@ -70,6 +121,8 @@ struct SkinData {
 // One morph target's per-vertex deltas; an empty array means no delta for that attribute.
 struct MorphTarget {
     std::vector<Vec3> positions, normals, tangents;
+    std::vector<Vec2> uv0, uv1;  // TEXCOORD_0, TEXCOORD_1
+    std::vector<Rgba> colors;    // COLOR_0 (held to [0, 1] after the deltas, as the import holds it)
 };
 
 // A mesh that changes shape: morph targets and/or a skin. Each node placing a deforming mesh
@@ -89,6 +142,8 @@ struct DeformingMesh {
     // scene_repair, so repaired normals are what gets deformed).
     bool captured = false;
     std::vector<Vec3> rest_positions, rest_normals, rest_tangents;
+    std::vector<Vec2> rest_uv0, rest_uv1;  // only when a target moves them
+    std::vector<Rgba> rest_colors;
 };
 
 // A light in its node's space: `local` is the light as placed by an identity transform (at the
@@ -96,6 +151,7 @@ struct DeformingMesh {
 struct LocalLight {
     std::shared_ptr<const PunctualLight> local;
     Rgb area_power;
+    int source = -1;  // the file's KHR_lights_punctual index (SceneAnimation::light_rest)
 };
 
 // One visit of a node by the scene's traversal (a node reached twice is placed twice), in the
@@ -121,6 +177,10 @@ struct SceneAnimation {
     std::vector<DeformingMesh> deforming;
     std::vector<SkinData> skins;
     std::vector<Animation> animations;
+    // Rest values of what PropertyChannels animate, by the file's index (empty without any).
+    std::vector<MaterialRest> material_rest;
+    std::vector<LightRest> light_rest;
+    std::vector<CameraRest> camera_rest;  // per Scene::cameras entry
     int selected = -1;  // the animation played, -1: all of them at once
     std::vector<std::string> warnings;  // found while posing, said once by the front end
 };

@@ -33,11 +33,13 @@ bool same_bits(const MeshMotion& a, const MeshMotion& b) {
 
 bool same_rgb(const Rgb& a, const Rgb& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
 
-// What pose_scene places of a light (the rest comes from the file and never changes).
+// What pose_scene writes of a light: its placement, and its colour, intensity and cone
+// (KHR_animation_pointer); the rest comes from the file and never changes.
 bool same_placement(const PunctualLight& a, const PunctualLight& b) {
     return a.type == b.type && same_bits(a.position, b.position) && same_bits(a.direction, b.direction) &&
            same_bits(a.axis_u, b.axis_u) && same_bits(a.axis_v, b.axis_v) && same_rgb(a.radiance, b.radiance) &&
-           same_rgb(a.intensity, b.intensity);
+           same_rgb(a.intensity, b.intensity) && a.cos_outer == b.cos_outer && a.cos_inner == b.cos_inner &&
+           a.blend == b.blend;
 }
 
 void merge_sorted(std::vector<uint32_t>& into, const std::vector<uint32_t>& more) {
@@ -61,6 +63,8 @@ ScenePose capture_pose(const Scene& scene) {
     for (const DeformingMesh& d : scene.animation.deforming) p.deforming.push_back(scene.meshes[d.mesh].positions);
     p.lights = scene.lights;
     p.motion = scene.motion;
+    for (const MaterialRest& m : scene.animation.material_rest)
+        if (m.material >= 0) p.emission.push_back(scene.materials[size_t(m.material)].emission);
     return p;
 }
 
@@ -93,6 +97,14 @@ SceneChanges changes_since(const ScenePose& before, const Scene& scene) {
     c.lights_changed = before.lights.size() != scene.lights.size();
     for (size_t i = 0; !c.lights_changed && i < scene.lights.size(); ++i)
         c.lights_changed = !same_placement(before.lights[i], scene.lights[i]);
+    // An animated emission changes what the light tables hold of the meshes that wear it.
+    size_t k = 0;
+    for (const MaterialRest& m : scene.animation.material_rest) {
+        if (m.material < 0) continue;
+        c.lights_changed = c.lights_changed || k >= before.emission.size() ||
+                           !same_rgb(before.emission[k], scene.materials[size_t(m.material)].emission);
+        ++k;
+    }
     return c;
 }
 

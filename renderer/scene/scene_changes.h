@@ -16,6 +16,7 @@ struct ScenePose {
     std::vector<std::vector<Vec3>> deforming;        // per SceneAnimation::deforming: its mesh's positions
     std::vector<PunctualLight> lights;               // Scene::lights
     SceneMotion motion;                              // Scene::motion: the shutter's steps
+    std::vector<Rgb> emission;                       // per animated material (SceneAnimation::material_rest) in use
 };
 
 // Indices in increasing order; compared by exact bits (a pose that yields the same floats changed
@@ -23,7 +24,7 @@ struct ScenePose {
 struct SceneChanges {
     std::vector<uint32_t> moved_instances;  // object_to_world or its motion steps differ
     std::vector<uint32_t> deformed_meshes;  // Scene::meshes whose positions or motion steps differ
-    bool lights_changed = false;            // Scene::lights differ in number or placement
+    bool lights_changed = false;            // Scene::lights differ, or an animated material's emission
     bool any() const { return !moved_instances.empty() || !deformed_meshes.empty() || lights_changed; }
     // Adds `later` (changes made after these), keeping the lists sorted and unique.
     void merge(const SceneChanges& later);

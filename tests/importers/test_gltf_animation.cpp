@@ -3,9 +3,11 @@
 // time whose result is computed here by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "gltf_test_builder.h"
+#include "importers/gltf/gltf_animation_pointer.h"
 #include "importers/importer.h"
 #include "scene/scene_animation.h"
 
@@ -400,6 +402,183 @@ TEST(GltfAnimation, JointIndexPastTheSkinIsBadInput) {
     b.doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = b.accessor(j, k_ushort, "VEC4");
     std::string message = expect_import_error(b, animated());
     EXPECT_NE(message.find("is not one of the skin's 2"), std::string::npos) << message;
+}
+
+// --------------------------------------------------------------------------------------------
+// Morph targets of texture coordinates and colours
+
+TEST(GltfAnimation, TexcoordAndColorDeltasFollowTheWeights) {
+    GltfBuilder b;
+    int pos = b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    int uv = b.accessor(std::vector<float>{0, 0, 1, 0, 0, 1}, k_float, "VEC2");
+    int color = b.accessor(std::vector<float>{0.2f, 0.2f, 0.2f, 1, 0.5f, 0.5f, 0.5f, 1, 0.9f, 0.9f, 0.9f, 1}, k_float, "VEC4");
+    int duv = b.accessor(std::vector<float>{0.5f, 0, 0, 0.5f, -1, -1}, k_float, "VEC2");
+    int dcolor = b.accessor(std::vector<float>{0.4f, 0, 0, 0, 0.4f, 0, 0, 0, 0.4f}, k_float, "VEC3");
+    json prim = {{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}, {"COLOR_0", color}}},
+                 {"targets", {{{"TEXCOORD_0", duv}, {"COLOR_0", dcolor}}}}};
+    b.push("meshes", {{"primitives", {prim}}, {"weights", {0.5}}});
+    b.place(0);
+    Scene s = posed(b, 0.0);
+    const Mesh& m = s.meshes[s.instances[0].mesh];
+    ASSERT_EQ(m.uv0.size(), 3u);
+    EXPECT_FLOAT_EQ(m.uv0[0].x, 0.25f);
+    EXPECT_FLOAT_EQ(m.uv0[1].y, 0.25f);
+    EXPECT_FLOAT_EQ(m.uv0[2].x, -0.5f);
+    EXPECT_FLOAT_EQ(m.uv0[2].y, 0.5f);
+    ASSERT_EQ(m.colors.size(), 3u);
+    EXPECT_FLOAT_EQ(m.colors[0].r, 0.4f);
+    EXPECT_FLOAT_EQ(m.colors[1].g, 0.7f);
+    EXPECT_FLOAT_EQ(m.colors[2].b, 1.0f);  // 0.9 + 0.2, held to 1 as the import holds COLOR_0
+    EXPECT_FLOAT_EQ(m.colors[2].a, 1.0f);  // a VEC3 delta leaves alpha alone
+    // Weight 0 is the file's own values again.
+    b.doc["meshes"][0]["weights"] = {0.0};
+    Scene zero = posed(b, 0.0);
+    EXPECT_FLOAT_EQ(zero.meshes[zero.instances[0].mesh].uv0[2].x, 0.0f);
+    EXPECT_FLOAT_EQ(zero.meshes[zero.instances[0].mesh].colors[0].r, 0.2f);
+}
+
+// --------------------------------------------------------------------------------------------
+// KHR_animation_pointer
+
+// One animation of one pointer channel: keys `times`, values `values` of `type`.
+void animate_pointer(GltfBuilder& b, const std::string& pointer, const std::vector<float>& times,
+                     const std::vector<float>& values, const char* type) {
+    int input = b.accessor(times, k_float, "SCALAR");
+    int output = b.accessor(values, k_float, type);
+    json target = {{"path", "pointer"}, {"extensions", {{"KHR_animation_pointer", {{"pointer", pointer}}}}}};
+    b.push("animations", {{"channels", {{{"sampler", 0}, {"target", target}}}},
+                          {"samplers", {{{"input", input}, {"output", output}}}}});
+    if (!b.doc.contains("extensionsUsed")) b.doc["extensionsUsed"] = json::array();
+    if (std::find(b.doc["extensionsUsed"].begin(), b.doc["extensionsUsed"].end(), "KHR_animation_pointer") ==
+        b.doc["extensionsUsed"].end())
+        b.doc["extensionsUsed"].push_back("KHR_animation_pointer");
+}
+
+// A triangle wearing material 0: white, rough, emitting (1, 0.5, 0) at strength 2.
+GltfBuilder material_triangle() {
+    GltfBuilder b;
+    int mesh = b.push("meshes", {{"primitives", {{{"attributes", {{"POSITION", b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}},
+                                                 {"material", 0}}}}});
+    b.push("materials", {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"roughnessFactor", 1.0}}},
+                         {"emissiveFactor", {1, 0.5, 0}},
+                         {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 2.0}}}}}});
+    b.place(mesh);
+    return b;
+}
+
+void expect_rgb(const Rgb& c, float r, float g, float b) {
+    EXPECT_NEAR(c.r, r, 1e-6f);
+    EXPECT_NEAR(c.g, g, 1e-6f);
+    EXPECT_NEAR(c.b, b, 1e-6f);
+}
+
+TEST(GltfAnimationPointer, MaterialFactorsFollowTheirChannels) {
+    GltfBuilder b = material_triangle();
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/baseColorFactor", {0, 1}, {1, 1, 1, 1, 0, 0.5f, 1, 0.5f}, "VEC4");
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/roughnessFactor", {0, 1}, {1, 0}, "SCALAR");
+    animate_pointer(b, "/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength", {0, 1}, {2, 4},
+                    "SCALAR");
+    animate_pointer(b, "/materials/0/emissiveFactor", {0, 1}, {1, 0.5f, 0, 0, 0.5f, 1}, "VEC3");
+    Scene s = posed(b, 0.5);
+    ASSERT_EQ(s.materials.size(), 1u);
+    const Material& m = s.materials[0];
+    expect_rgb(m.base_color, 0.5f, 0.75f, 1.0f);
+    EXPECT_NEAR(m.base_alpha, 0.75f, 1e-6f);
+    EXPECT_NEAR(m.roughness, 0.5f, 1e-6f);
+    expect_rgb(m.emission, 0.5f * 3, 0.5f * 3, 0.5f * 3);  // factor (0.5, 0.5, 0.5) x strength 3
+    // At the first key every factor is the file's: bit for bit the material the import made.
+    Scene rest = posed(b, 0.0);
+    Scene still = load(b);
+    EXPECT_EQ(rest.materials[0].base_color.r, still.materials[0].base_color.r);
+    EXPECT_EQ(rest.materials[0].roughness, still.materials[0].roughness);
+    EXPECT_EQ(rest.materials[0].emission.g, still.materials[0].emission.g);
+    EXPECT_TRUE(rest.warnings.empty()) << rest.warnings[0];
+}
+
+TEST(GltfAnimationPointer, AnimatedFactorsAreHeldToTheSpecsRanges) {
+    GltfBuilder b = material_triangle();
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/metallicFactor", {0, 1}, {-1, 3}, "SCALAR");
+    EXPECT_EQ(posed(b, 0.0).materials[0].metallic, 0.0f);
+    EXPECT_EQ(posed(b, 1.0).materials[0].metallic, 1.0f);
+}
+
+TEST(GltfAnimationPointer, UnlitBaseColourAnimatesWhatIsSeen) {
+    GltfBuilder b = material_triangle();
+    b.doc["materials"][0]["extensions"] = {{"KHR_materials_unlit", json::object()}};
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/baseColorFactor", {0, 1}, {1, 1, 1, 1, 0, 0.5f, 1, 1}, "VEC4");
+    const Material& m = posed(b, 1.0).materials[0];
+    expect_rgb(m.emission, 0.0f, 0.5f, 1.0f);
+    expect_rgb(m.base_color, 0.0f, 0.0f, 0.0f);
+}
+
+TEST(GltfAnimationPointer, LightColourIntensityAndConeFollowTheirChannels) {
+    GltfBuilder b = light_scene("veach tests");  // lights 0 point (colour 1, .5, .25, 2 x 683), 1 sun, 2 spot
+    animate_pointer(b, "/extensions/KHR_lights_punctual/lights/0/intensity", {0, 1}, {683 * 2, 683 * 4}, "SCALAR");
+    animate_pointer(b, "/extensions/KHR_lights_punctual/lights/1/color", {0, 1}, {1, 1, 1, 0, 1, 0}, "VEC3");
+    animate_pointer(b, "/extensions/KHR_lights_punctual/lights/2/spot/outerConeAngle", {0, 1}, {0.5f, 1.0f}, "SCALAR");
+    Scene s = posed(b, 0.5);
+    ASSERT_EQ(s.lights.size(), 3u);
+    expect_rgb(s.lights[0].intensity, 3.0f, 1.5f, 0.75f);  // 683 x 3 cd of colour (1, .5, .25) -> 3 W/sr
+    expect_rgb(s.lights[1].intensity, 0.5f, 1.0f, 0.5f);
+    EXPECT_NEAR(s.lights[2].cos_outer, std::cos(0.75f), 1e-6f);
+    EXPECT_NEAR(s.lights[2].cos_inner, std::cos(0.25f), 1e-6f);
+    EXPECT_NEAR(s.lights[2].blend, 1.0f - 0.25f / 0.75f, 1e-6f);
+    Scene rest = posed(b, 0.0), still = load(b);
+    for (size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(rest.lights[i].intensity.r, still.lights[i].intensity.r);
+        EXPECT_EQ(rest.lights[i].cos_outer, still.lights[i].cos_outer);
+    }
+}
+
+TEST(GltfAnimationPointer, CameraFieldOfViewFollowsItsChannel) {
+    GltfBuilder b = triangle_scene();
+    b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}});
+    b.push("nodes", {{"camera", 0}});
+    b.doc["scenes"][0]["nodes"].push_back(1);
+    animate_pointer(b, "/cameras/0/perspective/yfov", {0, 1}, {0.5f, 1.0f}, "SCALAR");
+    Scene s = posed(b, 0.5);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    EXPECT_NEAR(s.cameras[0].yfov, 0.75f, 1e-6f);
+}
+
+TEST(GltfAnimationPointer, NodePointersAreNodeChannels) {
+    GltfBuilder b = triangle_scene();
+    animate_pointer(b, "/nodes/0/translation", {0, 1}, {0, 0, 0, 2, 0, 0}, "VEC3");
+    expect_vec3(translation_of(posed(b, 0.5).instances[0].object_to_world), 1, 0, 0);
+}
+
+TEST(GltfAnimationPointer, PointersThatAreNotEvaluatedAreSkippedWithAWarning) {
+    GltfBuilder b = material_triangle();
+    animate_pointer(b, "/materials/0/normalTexture/scale", {0, 1}, {1, 2}, "SCALAR");
+    animate_pointer(b, "/materials/7/emissiveFactor", {0, 1}, {0, 0, 0, 1, 1, 1}, "VEC3");
+    animate_pointer(b, "/materials/0/emissiveFactor", {0, 1}, {0, 1}, "SCALAR");  // wrong type
+    Scene s = posed(b, 1.0);
+    std::string all;
+    for (const std::string& w : s.warnings) all += w + "\n";
+    EXPECT_NE(all.find("/materials/0/normalTexture/scale (KHR_animation_pointer) is not evaluated"), std::string::npos)
+        << all;
+    EXPECT_NE(all.find("/materials/7/emissiveFactor points at something the file does not have"), std::string::npos)
+        << all;
+    EXPECT_NE(all.find("has 1 values per key for a property of 3"), std::string::npos) << all;
+    expect_rgb(s.materials[0].emission, 2.0f, 1.0f, 0.0f);  // untouched
+    EXPECT_EQ(all.find("ignoring unsupported extension"), std::string::npos) << all;
+}
+
+TEST(GltfAnimationPointer, PointerParsingFollowsJsonPointerRules) {
+    using gltf::parse_animation_pointer;
+    EXPECT_FALSE(parse_animation_pointer("materials/0/emissiveFactor"));  // not absolute
+    EXPECT_FALSE(parse_animation_pointer("/materials/01/emissiveFactor"));  // leading zero
+    EXPECT_FALSE(parse_animation_pointer("/materials/-1/emissiveFactor"));
+    EXPECT_FALSE(parse_animation_pointer("/nodes/0/matrix"));
+    auto t = parse_animation_pointer("/extensions/KHR_lights_punctual/lights/12/spot/innerConeAngle");
+    ASSERT_TRUE(t && t->property);
+    EXPECT_EQ(*t->property, AnimatedProperty::SpotInnerCone);
+    EXPECT_EQ(t->target, 12);
+    auto n = parse_animation_pointer("/nodes/3/weights");
+    ASSERT_TRUE(n);
+    EXPECT_FALSE(n->property);
+    EXPECT_EQ(n->node, 3);
+    EXPECT_EQ(n->path, AnimatedPath::Weights);
 }
 
 }  // namespace

@@ -196,5 +196,38 @@ TEST(SequenceUpdates, AStaticSceneKeepsTheLayoutItAlwaysHad) {
     EXPECT_EQ(movable[5], 1) << "the moving panel";
 }
 
+TEST(SequenceUpdates, AnimatedMaterialsAndLightsThroughPointersUpdateTheLightTables) {
+    // KHR_animation_pointer: the panel's emission strength and the bulb's intensity change, the
+    // geometry stays. The light tables follow the new emission; each frame is a fresh load's.
+    GltfBuilder b = sequence_scene(false);
+    auto pointer = [&](const std::string& p, const std::vector<float>& values) {
+        int input = b.accessor(std::vector<float>{0, 1}, k_float, "SCALAR");
+        int output = b.accessor(values, k_float, "SCALAR");
+        json target = {{"path", "pointer"}, {"extensions", {{"KHR_animation_pointer", {{"pointer", p}}}}}};
+        b.push("animations", {{"channels", {{{"sampler", 0}, {"target", target}}}},
+                              {"samplers", {{{"input", input}, {"output", output}}}}});
+    };
+    b.doc["animations"] = json::array();  // only the pointers move
+    b.doc["extensionsUsed"].push_back("KHR_animation_pointer");
+    b.doc["materials"][1]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 1.0;
+    pointer("/materials/1/extensions/KHR_materials_emissive_strength/emissiveStrength", {1, 3});
+    pointer("/extensions/KHR_lights_punctual/lights/0/intensity", {683 * 20, 683 * 5});
+    Scene s = load_at(b, 0.0);
+    PreparedSceneCache cache;
+    Image first = render_scene(s, options(), {}, &cache).image;
+    const SceneChanges changes = repose(s, 0.5);
+    EXPECT_TRUE(changes.moved_instances.empty());
+    EXPECT_TRUE(changes.lights_changed);
+    cache.note(changes);
+    Image updated = render_scene(s, options(), {}, &cache).image;
+    EXPECT_TRUE(identical(updated, render_scene(load_at(b, 0.5), options()).image));
+    EXPECT_FALSE(identical(updated, first));
+    PreparedScene p(s);
+    ASSERT_TRUE(p.update(repose(s, 1.0)));
+    EXPECT_EQ(p.light_builds(), 2) << "the emission changed: the tables are rebuilt";
+    ASSERT_TRUE(p.update(repose(s, 1.0)));
+    EXPECT_EQ(p.light_builds(), 2) << "nothing changed";
+}
+
 }  // namespace
 }  // namespace veach
