@@ -18,6 +18,7 @@
 #include "integrators/integrator.h"
 #include "output/atomic_file.h"
 #include "output/display_transform.h"
+#include "scene/scene_content_error.h"
 
 static_assert(VEACH_VERSION_MAJOR == VEACH_PROJECT_VERSION_MAJOR &&
                   VEACH_VERSION_MINOR == VEACH_PROJECT_VERSION_MINOR &&
@@ -78,7 +79,10 @@ VeachError code_of_current_exception(std::string& message) {
     } catch (const OutputError& e) {
         message = e.what();
         return VEACH_ERROR_OUTPUT;
-    } catch (const std::invalid_argument& e) {
+    } catch (const SceneContentError& e) {  // before invalid_argument, its base
+        message = e.what();
+        return VEACH_ERROR_BAD_INPUT;
+} catch (const std::invalid_argument& e) {
         message = e.what();
         return VEACH_ERROR_INVALID_ARGUMENT;
     } catch (const std::bad_alloc&) {

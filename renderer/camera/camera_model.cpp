@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "scene/scene_content_error.h"
+
 namespace veach {
 
 int CameraModel::default_height(const Camera* camera, int width) {
@@ -32,8 +34,8 @@ bool unit_direction(const Vec3& v, Vec3* out) {
 
 float max_abs(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
-std::invalid_argument bad_camera(const Camera& camera, const std::string& fault) {
-    return std::invalid_argument("camera '" + camera.name + "': " + fault);
+SceneContentError bad_camera(const Camera& camera, const std::string& fault) {
+    return SceneContentError("camera '" + camera.name + "': " + fault);
 }
 
 }  // namespace
@@ -81,7 +83,7 @@ CameraModel::CameraModel(const Camera* camera, const Bounds3& bounds, int width,
         float dist = r / std::sin(0.5f * fit);
         m_origin = c + Vec3(0, 0, dist);
         if (!(max_abs(m_origin) <= k_max_ray_coordinate))
-            throw std::invalid_argument(
+            throw SceneContentError(
                 "the scene is too large for the default camera (it would stand over 1e18 from the origin); add a "
                 "camera");
         m_forward = Vec3(0, 0, -1);

@@ -11,6 +11,7 @@
 
 #include "core/available_memory.h"
 #include "core/content_hash.h"
+#include "scene/scene_content_error.h"
 #include "film/film_checkpoint.h"
 
 namespace veach {
@@ -43,7 +44,7 @@ void check_scene_extent(const Scene& scene) {
     if (!(reach <= k_max_ray_coordinate)) {
         char text[32];
         std::snprintf(text, sizeof(text), "%.3g", double(reach));
-        throw std::invalid_argument(std::string("the scene's geometry reaches ") + text +
+        throw SceneContentError(std::string("the scene's geometry reaches ") + text +
                                     " from its centre; coordinates over 1e18 cannot be ray traced");
     }
 }
