@@ -117,6 +117,29 @@ std::shared_ptr<const PreparedScene> PreparedSceneCache::get(const Scene& scene)
 void PreparedSceneCache::note(const SceneChanges& changes) {
     std::lock_guard<std::mutex> lock(m_mutex);
     m_pending.merge(changes);
+    m_bounds_pending.merge(changes);
+}
+
+Bounds3 PreparedSceneCache::scene_bounds(const Scene& scene) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    const size_t n = scene.instances.size();
+    if (m_bounds_scene != &scene || m_instance_bounds.size() != n) {
+        m_instance_bounds.resize(n);
+        for (size_t i = 0; i < n; ++i) m_instance_bounds[i] = scene.bounds_of(scene.instances[i]);
+        m_bounds_scene = &scene;
+    } else {
+        const SceneChanges& c = m_bounds_pending;
+        for (uint32_t i : c.moved_instances)
+            if (i < n) m_instance_bounds[i] = scene.bounds_of(scene.instances[i]);
+        if (!c.deformed_meshes.empty())
+            for (size_t i = 0; i < n; ++i)
+                if (std::binary_search(c.deformed_meshes.begin(), c.deformed_meshes.end(), scene.instances[i].mesh))
+                    m_instance_bounds[i] = scene.bounds_of(scene.instances[i]);
+    }
+    m_bounds_pending = {};
+    Bounds3 b;
+    for (const Bounds3& ib : m_instance_bounds) b.extend(ib);
+    return b;
 }
 
 }  // namespace veach

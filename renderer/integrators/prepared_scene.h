@@ -64,11 +64,17 @@ public:
     std::shared_ptr<const PreparedScene> get(const Scene& scene);
     // A re-pose changed the scene (no render of it may be running).
     void note(const SceneChanges& changes);
+    // scene.bounds() as it stands now, bit for bit, from per-instance bounds kept between calls:
+    // only the instances the noted changes moved or deformed are visited again. Thread-safe.
+    Bounds3 scene_bounds(const Scene& scene);
 
 private:
     std::mutex m_mutex;
     std::shared_ptr<PreparedScene> m_prepared;
     SceneChanges m_pending;
+    const Scene* m_bounds_scene = nullptr;
+    std::vector<Bounds3> m_instance_bounds;  // Scene::bounds_of per instance of m_bounds_scene
+    SceneChanges m_bounds_pending;           // noted since m_instance_bounds was brought up to date
 };
 
 }  // namespace veach

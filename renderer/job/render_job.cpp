@@ -36,8 +36,9 @@ namespace {
 // Every hit point starts a ray, and Embree cannot take an origin past k_max_ray_coordinate: a
 // scene reaching beyond it (after the front end moved a far-off scene to the origin) is refused
 // before anything is built, rather than rendered with its far parts silently dropped.
-void check_scene_extent(const Scene& scene) {
-    const Bounds3 b = scene.bounds();
+void check_scene_extent(const Scene& scene, PreparedSceneCache* prepared) {
+    // A sequence's cache keeps the bounds per instance: a frame visits only what moved.
+    const Bounds3 b = prepared ? prepared->scene_bounds(scene) : scene.bounds();
     if (b.empty()) return;
     const float reach = std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z), std::fabs(b.hi.x),
                                   std::fabs(b.hi.y), std::fabs(b.hi.z)});
@@ -117,7 +118,7 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
 
     result.camera_name = camera ? camera->name : "default";
     result.triangles = scene.triangle_count();
-    check_scene_extent(scene);
+    check_scene_extent(scene, prepared);
     check_render_memory(scene, options, width, height);
     auto t0 = clock::now();
     RenderScene rs(prepared ? prepared->get(scene) : std::make_shared<const PreparedScene>(scene), camera, width,

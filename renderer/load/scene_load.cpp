@@ -1,5 +1,6 @@
 #include "load/scene_load.h"
 
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -52,6 +53,31 @@ void pose_at_time(Scene& scene, const SceneLoadOptions& options) {
     capture_motion(scene, options.time, options.shutter_open, options.shutter_close);
 }
 
+bool same_transform(const Transform& a, const Transform& b) { return std::memcmp(a.m, b.m, sizeof(a.m)) == 0; }
+
+// The posed scene's bounds before the rebase, exactly Scene::bounds(): each instance's bounds are
+// kept with the transform they were computed for, and recomputed when that transform's bits
+// differ or the instance's mesh deforms (the pose rewrites its vertices).
+Bounds3 posed_bounds(LoadedScene& loaded) {
+    const Scene& scene = loaded.scene;
+    const size_t n = scene.instances.size();
+    std::vector<uint8_t> deforms(scene.meshes.size(), 0);
+    for (const DeformingMesh& d : scene.animation.deforming) deforms[d.mesh] = 1;
+    const bool known = loaded.posed_transforms.size() == n && loaded.posed_bounds.size() == n;
+    loaded.posed_transforms.resize(n);
+    loaded.posed_bounds.resize(n);
+    Bounds3 b;
+    for (size_t i = 0; i < n; ++i) {
+        const Instance& inst = scene.instances[i];
+        if (!known || deforms[inst.mesh] || !same_transform(inst.object_to_world, loaded.posed_transforms[i])) {
+            loaded.posed_transforms[i] = inst.object_to_world;
+            loaded.posed_bounds[i] = scene.bounds_of(inst);
+        }
+        b.extend(loaded.posed_bounds[i]);
+    }
+    return b;
+}
+
 LoadedScene finish_load(Scene&& imported, const SceneLoadOptions& options) {
     LoadedScene loaded;
     // The bytes of every file the import read, never the path: a checkpoint or part resumes or
@@ -66,8 +92,8 @@ LoadedScene finish_load(Scene&& imported, const SceneLoadOptions& options) {
     }
     pose_at_time(imported, options);
     light_unlit_scene(imported);
-    rebase_scene(imported);
     loaded.scene = std::move(imported);
+    rebase_scene(loaded.scene, posed_bounds(loaded));
     loaded.env_map_hash = environment_map_hash(options.environment);
     loaded.identity = scene_identity(options, loaded.file_hash, loaded.env_map_hash);
     return loaded;
@@ -87,7 +113,7 @@ LoadedScene load_scene_memory(const std::vector<uint8_t>& bytes, const std::stri
 SceneChanges repose_scene(LoadedScene& loaded, const SceneLoadOptions& options) {
     const ScenePose before = capture_pose(loaded.scene);
     pose_at_time(loaded.scene, options);
-    rebase_scene(loaded.scene);
+    rebase_scene(loaded.scene, posed_bounds(loaded));
     loaded.identity = scene_identity(options, loaded.file_hash, loaded.env_map_hash);
     return changes_since(before, loaded.scene);
 }

@@ -36,6 +36,11 @@ struct LoadedScene {
     // The file, the map and every load option: a checkpoint or part of another file, variant,
     // environment or time is another render's.
     uint64_t identity = 0;
+    // Per instance, the posed object_to_world before the rebase and the bounds of its triangles
+    // placed by it (Scene::bounds_of): a re-pose recomputes only the instances that moved or
+    // whose mesh deforms, so a sequence's frame does not visit every static triangle to rebase.
+    std::vector<Transform> posed_transforms;
+    std::vector<Bounds3> posed_bounds;
 };
 
 // Throw ImportError (bad input: one line naming the file and the fault) for a file, map or

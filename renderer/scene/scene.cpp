@@ -2,15 +2,19 @@
 
 namespace veach {
 
-Bounds3 Scene::bounds() const {
+Bounds3 Scene::bounds_of(const Instance& inst) const {
     Bounds3 b;
     // The triangles' corners only: repair leaves unreferenced and non-finite vertices in place.
-    for (const Instance& inst : instances) {
-        const Mesh& mesh = meshes[inst.mesh];
-        for (uint32_t i : mesh.indices)
-            if (i < mesh.positions.size() && is_finite(mesh.positions[i]))
-                b.extend(inst.object_to_world.point(mesh.positions[i]));
-    }
+    const Mesh& mesh = meshes[inst.mesh];
+    for (uint32_t i : mesh.indices)
+        if (i < mesh.positions.size() && is_finite(mesh.positions[i]))
+            b.extend(inst.object_to_world.point(mesh.positions[i]));
+    return b;
+}
+
+Bounds3 Scene::bounds() const {
+    Bounds3 b;
+    for (const Instance& inst : instances) b.extend(bounds_of(inst));
     return b;
 }
 

@@ -251,8 +251,11 @@ struct Scene {
     // What moves during the shutter, for motion blur (scene_motion.h's capture_motion).
     SceneMotion motion;
 
-    // World-space bounds of all instanced triangles (their finite corners).
+    // World-space bounds of all instanced triangles (their finite corners), the union of
+    // bounds_of over the instances: min and max never take a NaN and do not depend on order, so
+    // the union of bounds kept per instance is this, bit for bit.
     Bounds3 bounds() const;
+    Bounds3 bounds_of(const Instance& inst) const;  // its mesh's finite corners, placed by object_to_world
     size_t triangle_count() const;  // instanced triangles, counted per instance
     const Material& material_of(const Mesh& mesh) const;
     static const Material& default_material();

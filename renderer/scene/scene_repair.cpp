@@ -260,13 +260,10 @@ RepairCounts repair_scene(Scene& scene) {
 
 Vec3 rebase_scene(Scene& scene) {
     // The bounds of the triangles' corners only: unreferenced vertices may hold anything.
-    Bounds3 b;
-    for (const Instance& inst : scene.instances) {
-        const Mesh& mesh = scene.meshes[inst.mesh];
-        for (uint32_t i : mesh.indices)
-            if (i < mesh.positions.size() && is_finite(mesh.positions[i]))
-                b.extend(inst.object_to_world.point(mesh.positions[i]));
-    }
+    return rebase_scene(scene, scene.bounds());
+}
+
+Vec3 rebase_scene(Scene& scene, const Bounds3& b) {
     if (b.empty() || !is_finite(b.lo) || !is_finite(b.hi)) return Vec3(0, 0, 0);
     // In double: the float centre of a box near 1e5 would already be rounded.
     const double centre[3] = {0.5 * (double(b.lo.x) + b.hi.x), 0.5 * (double(b.lo.y) + b.hi.y),

@@ -35,6 +35,9 @@ RepairCounts repair_scene(Scene& scene);
 // the offset subtracted (zero when the scene was left alone). Not part of repair_scene: importers
 // keep the file's coordinates; the scene load calls it last, after the pose.
 Vec3 rebase_scene(Scene& scene);
+// The same with the scene's bounds (Scene::bounds()) already known, e.g. kept per instance
+// across a sequence's frames.
+Vec3 rebase_scene(Scene& scene, const Bounds3& bounds);
 
 // A scene with no light at all (no punctual light, no emissive surface, no environment) renders
 // black. glTF viewers light such a scene with a uniform white world; so does Veach: this enables

@@ -3,9 +3,11 @@
 // and the identity it computes names the content and every option, never the path.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 
 #include "../importers/gltf_test_builder.h"
+#include "integrators/prepared_scene.h"
 #include "load/scene_load.h"
 
 namespace veach {
@@ -99,6 +101,73 @@ TEST(SceneLoad, ReposeChangesTheIdentityWithTheTimeAndBack) {
     EXPECT_EQ(loaded.identity, first);
     // A fresh load at that time makes the same identity.
     EXPECT_EQ(load_scene_file(path, options).identity, first);
+}
+
+
+bool same_bits(const void* a, const void* b, size_t bytes) { return std::memcmp(a, b, bytes) == 0; }
+
+void expect_same_placement(const Scene& reposed, const Scene& fresh, double t) {
+    ASSERT_EQ(reposed.instances.size(), fresh.instances.size());
+    for (size_t i = 0; i < fresh.instances.size(); ++i)
+        EXPECT_TRUE(same_bits(reposed.instances[i].object_to_world.m, fresh.instances[i].object_to_world.m,
+                              sizeof(Transform::m)))
+            << "instance " << i << " at t = " << t;
+    for (size_t j = 0; j < fresh.meshes.size(); ++j)
+        EXPECT_EQ(reposed.meshes[j].positions.size(), fresh.meshes[j].positions.size());
+    for (size_t j = 0; j < fresh.meshes.size(); ++j)
+        EXPECT_TRUE(same_bits(reposed.meshes[j].positions.data(), fresh.meshes[j].positions.data(),
+                              fresh.meshes[j].positions.size() * sizeof(Vec3)))
+            << "mesh " << j << " at t = " << t;
+    const Bounds3 a = reposed.bounds(), b = fresh.bounds();
+    EXPECT_TRUE(same_bits(&a, &b, sizeof(Bounds3))) << "t = " << t;
+}
+
+TEST(SceneLoad, AReposedFarOffSceneIsPlacedExactlyAsAFreshLoadOfEachFrame) {
+    // Far from the origin (so the load moves it there) with a box sliding away and a sheet whose
+    // morph target lifts a corner: the scene's extent, and so the rebase's offset, changes with
+    // every frame, while a static box and the ground keep their pose. A re-pose keeps the static
+    // instances' bounds from the frame before; what it moves must be exactly what a fresh load of
+    // that frame moves, or every static instance lands elsewhere by the offsets' difference.
+    GltfBuilder b;
+    const float x0 = 1e5f;
+    b.place(b.triangle_mesh("ground"), {{"translation", {x0, 0, 0}}, {"scale", {8, 1, 8}}});
+    int box = b.triangle_mesh("box");
+    b.place(box, {{"translation", {x0 - 2, 0.5, 0}}});
+    int sliding = b.place(box, {{"translation", {x0, 0.5, 0}}});
+    int pos = b.positions({0, 0, 0, 1, 0, 0, 0, 0, 1});
+    int lift = b.positions({0, 0, 0, 0, 30, 0, 0, 0, 0});
+    json prim = {{"attributes", {{"POSITION", pos}}}, {"targets", json::array({{{"POSITION", lift}}})}};
+    int sheet = b.push("meshes", {{"primitives", json::array({prim})}, {"weights", {0.0}}});
+    int morphing = b.place(sheet, {{"translation", {x0 + 1, 0, 1}}});
+    auto animate = [&](int node, const char* path, const std::vector<float>& values, const char* type) {
+        int input = b.accessor(std::vector<float>{0, 1}, k_float, "SCALAR");
+        int output = b.accessor(values, k_float, type);
+        b.push("animations", {{"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}},
+                              {"samplers", {{{"input", input}, {"output", output}}}}});
+    };
+    animate(sliding, "translation", {x0, 0.5f, 0, x0 + 60, 0.5f, -20}, "VEC3");
+    animate(morphing, "weights", {0, 1}, "SCALAR");
+    TempDir dir;
+    const std::string path = dir.write("scene.gltf", b.gltf()).string();
+    SceneLoadOptions options;
+    options.import.animate = true;
+    LoadedScene loaded = load_scene_file(path, options);
+    PreparedSceneCache cache;
+    cache.scene_bounds(loaded.scene);  // kept from here on
+    const Transform static_box = loaded.scene.instances[1].object_to_world;
+    bool offset_moved = false;
+    for (double t : {0.5, 1.0, 0.25, 0.25, 0.0, 0.75}) {
+        options.time = t;
+        cache.note(repose_scene(loaded, options));
+        const LoadedScene fresh = load_scene_file(path, options);
+        expect_same_placement(loaded.scene, fresh.scene, t);
+        // The render's extent check reads the cache's bounds: those of the scene as it stands.
+        const Bounds3 kept = cache.scene_bounds(loaded.scene), full = loaded.scene.bounds();
+        EXPECT_TRUE(same_bits(&kept, &full, sizeof(Bounds3))) << "t = " << t;
+        offset_moved = offset_moved ||
+                       !same_bits(static_box.m, loaded.scene.instances[1].object_to_world.m, sizeof(Transform::m));
+    }
+    EXPECT_TRUE(offset_moved) << "the rebase's offset never changed: the test shows nothing";
 }
 
 }  // namespace
