@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "scene/mesh_corners.h"
 #include "scene/mesh_topology.h"
 
 namespace veach {
@@ -15,13 +16,13 @@ bool same_bounds(const Bounds3& a, const Bounds3& b) {
 
 }  // namespace
 
-Bounds3 PreparedScene::instance_bounds(size_t instance) const {
+Bounds3 PreparedScene::instance_bounds(size_t instance, MeshCorners& corners) const {
     const Instance& inst = m_scene.instances[instance];
     const Mesh& mesh = m_scene.meshes[inst.mesh];
+    const std::vector<uint32_t>& used = corners.of(inst.mesh);
     Bounds3 b;
     auto extend = [&](const std::vector<Vec3>& positions, const Transform& to_world) {
-        for (uint32_t i : mesh.indices)
-            if (i < positions.size() && is_finite(positions[i])) b.extend(to_world.point(positions[i]));
+        b.extend(MeshCorners::placed(positions, used, to_world));
     };
     extend(mesh.positions, inst.object_to_world);
     // Moving geometry: its path through the shutter. Deformed vertices move on straight lines
@@ -57,7 +58,8 @@ Bounds3 PreparedScene::instance_bounds(size_t instance) const {
 PreparedScene::PreparedScene(const Scene& scene)
     : m_scene(scene), m_accel(std::make_unique<Accel>(scene)) {
     m_instance_bounds.reserve(scene.instances.size());
-    for (size_t i = 0; i < scene.instances.size(); ++i) m_instance_bounds.push_back(instance_bounds(i));
+    MeshCorners corners(scene);
+    for (size_t i = 0; i < scene.instances.size(); ++i) m_instance_bounds.push_back(instance_bounds(i, corners));
     for (const Bounds3& b : m_instance_bounds) m_bounds.extend(b);
     m_lights = std::make_unique<LightSet>(scene, *m_accel, &m_bounds);
     m_light_builds = 1;
@@ -78,12 +80,13 @@ bool PreparedScene::update(const SceneChanges& changes) {
     if (!m_accel->update(changes)) return false;
     for (uint32_t i : changes.moved_instances) m_world_to_object[i] = inverse(m_scene.instances[i].object_to_world);
     for (uint32_t m : changes.deformed_meshes) set_thin_walled(m);
-    for (uint32_t i : changes.moved_instances) m_instance_bounds[i] = instance_bounds(i);
+    MeshCorners corners(m_scene);
+    for (uint32_t i : changes.moved_instances) m_instance_bounds[i] = instance_bounds(i, corners);
     if (!changes.deformed_meshes.empty())
         for (size_t i = 0; i < m_scene.instances.size(); ++i)
             if (std::binary_search(changes.deformed_meshes.begin(), changes.deformed_meshes.end(),
                                    m_scene.instances[i].mesh))
-                m_instance_bounds[i] = instance_bounds(i);
+                m_instance_bounds[i] = instance_bounds(i, corners);
     Bounds3 bounds;
     for (const Bounds3& b : m_instance_bounds) bounds.extend(b);
     bool relight = changes.lights_changed || !same_bounds(bounds, m_bounds);
@@ -123,18 +126,19 @@ void PreparedSceneCache::note(const SceneChanges& changes) {
 Bounds3 PreparedSceneCache::scene_bounds(const Scene& scene) {
     std::lock_guard<std::mutex> lock(m_mutex);
     const size_t n = scene.instances.size();
+    MeshCorners corners(scene);
     if (m_bounds_scene != &scene || m_instance_bounds.size() != n) {
         m_instance_bounds.resize(n);
-        for (size_t i = 0; i < n; ++i) m_instance_bounds[i] = scene.bounds_of(scene.instances[i]);
+        for (size_t i = 0; i < n; ++i) m_instance_bounds[i] = corners.bounds_of(scene.instances[i]);
         m_bounds_scene = &scene;
     } else {
         const SceneChanges& c = m_bounds_pending;
         for (uint32_t i : c.moved_instances)
-            if (i < n) m_instance_bounds[i] = scene.bounds_of(scene.instances[i]);
+            if (i < n) m_instance_bounds[i] = corners.bounds_of(scene.instances[i]);
         if (!c.deformed_meshes.empty())
             for (size_t i = 0; i < n; ++i)
                 if (std::binary_search(c.deformed_meshes.begin(), c.deformed_meshes.end(), scene.instances[i].mesh))
-                    m_instance_bounds[i] = scene.bounds_of(scene.instances[i]);
+                    m_instance_bounds[i] = corners.bounds_of(scene.instances[i]);
     }
     m_bounds_pending = {};
     Bounds3 b;

@@ -14,6 +14,8 @@
 
 namespace veach {
 
+class MeshCorners;
+
 class PreparedScene {
 public:
     // Builds everything from `scene` as it stands; `scene` must outlive this.
@@ -41,7 +43,7 @@ public:
 
 private:
     void set_thin_walled(size_t mesh);
-    Bounds3 instance_bounds(size_t instance) const;
+    Bounds3 instance_bounds(size_t instance, MeshCorners& corners) const;
 
     const Scene& m_scene;
     // Per instance, then their union: what Scene::bounds() computes (min and max are exact in

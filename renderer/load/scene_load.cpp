@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/content_hash.h"
+#include "scene/mesh_corners.h"
 #include "scene/scene_animation.h"
 #include "scene/scene_motion.h"
 #include "scene/scene_repair.h"
@@ -63,6 +64,7 @@ Bounds3 posed_bounds(LoadedScene& loaded) {
     const size_t n = scene.instances.size();
     std::vector<uint8_t> deforms(scene.meshes.size(), 0);
     for (const DeformingMesh& d : scene.animation.deforming) deforms[d.mesh] = 1;
+    MeshCorners corners(scene);
     const bool known = loaded.posed_transforms.size() == n && loaded.posed_bounds.size() == n;
     loaded.posed_transforms.resize(n);
     loaded.posed_bounds.resize(n);
@@ -71,7 +73,7 @@ Bounds3 posed_bounds(LoadedScene& loaded) {
         const Instance& inst = scene.instances[i];
         if (!known || deforms[inst.mesh] || !same_transform(inst.object_to_world, loaded.posed_transforms[i])) {
             loaded.posed_transforms[i] = inst.object_to_world;
-            loaded.posed_bounds[i] = scene.bounds_of(inst);
+            loaded.posed_bounds[i] = corners.bounds_of(inst);
         }
         b.extend(loaded.posed_bounds[i]);
     }

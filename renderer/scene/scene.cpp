@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "scene/mesh_corners.h"
+
 namespace veach {
 
 Bounds3 Scene::bounds_of(const Instance& inst) const {
@@ -14,7 +16,8 @@ Bounds3 Scene::bounds_of(const Instance& inst) const {
 
 Bounds3 Scene::bounds() const {
     Bounds3 b;
-    for (const Instance& inst : instances) b.extend(bounds_of(inst));
+    MeshCorners corners(*this);
+    for (const Instance& inst : instances) b.extend(corners.bounds_of(inst));
     return b;
 }
 

@@ -3,12 +3,14 @@
 // and the identity it computes names the content and every option, never the path.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
 #include "../importers/gltf_test_builder.h"
 #include "integrators/prepared_scene.h"
 #include "load/scene_load.h"
+#include "scene/mesh_corners.h"
 
 namespace veach {
 namespace {
@@ -168,6 +170,38 @@ TEST(SceneLoad, AReposedFarOffSceneIsPlacedExactlyAsAFreshLoadOfEachFrame) {
                        !same_bits(static_box.m, loaded.scene.instances[1].object_to_world.m, sizeof(Transform::m));
     }
     EXPECT_TRUE(offset_moved) << "the rebase's offset never changed: the test shows nothing";
+}
+
+TEST(SceneLoad, BoundsFromEachMeshsVerticesOnceAreTheCornersBoundsBitForBit) {
+    // Zeros of both signs met in another order than the vertex list's (placed by a translation of
+    // -0, which keeps them), a far-off vertex no triangle uses, a non-finite corner and an index
+    // past the positions: the bound from the referenced vertices (in order of first use) is the
+    // bound over every corner, down to the sign of a zero.
+    Scene scene;
+    Mesh mesh;
+    mesh.positions = {{-0.0f, -1, -1}, {0.0f, -1, -1}, {1e30f, 1e30f, 1e30f}, {0.0f, -1, 2}, {std::nanf(""), 0, 0},
+                      {3, -1, -1}};
+    mesh.indices = {1, 0, 3, 3, 5, 1, 4, 0, 1, 0, 5, 9};
+    scene.meshes.push_back(mesh);
+    for (float s : {1.0f, -1.0f}) {
+        for (float t : {-0.0f, 0.5f}) {
+            Instance inst;
+            for (int r = 0; r < 3; ++r) inst.object_to_world.m[r][r] = s, inst.object_to_world.m[r][3] = t;
+            scene.instances.push_back(inst);
+        }
+    }
+    MeshCorners corners(scene);
+    EXPECT_EQ(corners.of(0), (std::vector<uint32_t>{1, 0, 3, 5, 4}));
+    const Bounds3 zero = scene.bounds_of(scene.instances[0]);
+    EXPECT_FALSE(std::signbit(zero.lo.x));  // the +0 of vertex 1, met before the -0 of vertex 0
+    for (const Instance& inst : scene.instances) {
+        const Bounds3 a = corners.bounds_of(inst), b = scene.bounds_of(inst);
+        EXPECT_TRUE(same_bits(&a, &b, sizeof(Bounds3)));
+    }
+    Bounds3 all;
+    for (const Instance& inst : scene.instances) all.extend(scene.bounds_of(inst));
+    const Bounds3 fast = scene.bounds();
+    EXPECT_TRUE(same_bits(&fast, &all, sizeof(Bounds3)));
 }
 
 }  // namespace
