@@ -1,7 +1,6 @@
 #include "integrators/first_hit_aovs.h"
 
-#include "integrators/surface_hit.h"
-#include "materials/gltf_material.h"
+#include "integrators/shading_point.h"
 
 namespace veach {
 
@@ -11,7 +10,8 @@ PixelAovs first_hit_aovs(const RenderScene& rs, const CameraModel& camera, float
     camera.generate_ray(fx, fy, &o, &d);
     RayHit rh;
     if (!rs.accel().intersect(o, d, k_infinity, &rh, time)) return aovs;
-    const SurfaceHit hit = make_surface_hit(rs, rh);
+    const ShadingPoint sp = make_shading_point(rs, rh);
+    const SurfaceHit& hit = sp.hit;
     aovs.hit = true;
     // Blender's Z pass is the depth along the camera's view axis, not the distance along the
     // ray: t |d| cos(angle to forward). For an orthographic camera o lies on the image plane, so
@@ -20,7 +20,7 @@ PixelAovs first_hit_aovs(const RenderScene& rs, const CameraModel& camera, float
     // Cycles reports the shading normal flipped to the side the camera sees (its back-facing
     // flip), in world space.
     aovs.normal = dot(hit.ng, d) > 0.0f ? -hit.ns : hit.ns;
-    aovs.albedo = evaluate_material(*hit.material, rs.scene(), hit.attr).base_color;
+    aovs.albedo = sp.inputs(rs).base_color;
     return aovs;
 }
 

@@ -5,7 +5,7 @@
 #include "core/sobol_sampler.h"
 #include "integrators/bdpt/path_vertex.h"
 #include "integrators/first_hit_aovs.h"
-#include "integrators/surface_hit.h"
+#include "integrators/shading_point.h"
 #include "materials/volume_absorption.h"
 
 namespace veach {
@@ -101,7 +101,8 @@ private:
 // Fills a surface vertex from a hit and builds its BSDF facing the arriving direction.
 void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& dir, PathVertex* v,
                          float footprint_width = 0.0f) {
-    SurfaceHit hit = make_surface_hit(rs, rh, footprint_width);
+    const ShadingPoint sp = make_shading_point(rs, rh, footprint_width);
+    const SurfaceHit& hit = sp.hit;
     v->kind = PathVertex::Kind::Surface;
     v->p = hit.p;
     v->p_error = hit.p_error;
@@ -116,10 +117,8 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
     v->prim = hit.prim;
     v->b1 = hit.b1;
     v->b2 = hit.b2;
-    v->light = rs.lights().emitter_of(hit.instance, hit.prim);
-    ShadingInputs in = evaluate_material(*hit.material, rs.scene(), hit.attr);
-    in.thin_walled = hit.thin_walled;
-    v->bsdf = SurfaceBsdf(hit.ng, hit.ns, -dir, in, hit.ns_coat);
+    v->light = sp.emitter(rs);
+    v->bsdf = sp.bsdf(rs, -dir);
 }
 
 // roulette_scale: 1 / the throughput the subpath started with, so that Russian roulette follows
@@ -308,8 +307,7 @@ Rgb Tracer::emitted_toward(const PathVertex& v, const Vec3& w) const {
     if (v.infinite) return m_lights.radiance(static_cast<size_t>(v.light), v.p, v.light_dir);
     if (v.kind == PathVertex::Kind::Light) return m_lights.radiance(static_cast<size_t>(v.light), v.p, w);
     if (v.kind != PathVertex::Kind::Surface) return Rgb(0.0f);
-    const auto& tl = std::get<TriangleLight>(m_lights.light(static_cast<size_t>(v.light)));
-    return tl.radiance_toward(w, evaluate_emission(*v.material, m_rs.scene(), v.attr));
+    return emitted_radiance(m_lights, m_rs.scene(), *v.material, v.attr, v.light, w);
 }
 
 // The emissive texture of triangle light `tl` at point p, read with the footprint of the camera

@@ -1,8 +1,7 @@
 #include "integrators/pt/path_tracer.h"
 
 #include "core/sobol_sampler.h"
-#include "integrators/surface_hit.h"
-#include "materials/surface_bsdf.h"
+#include "integrators/shading_point.h"
 #include "materials/volume_absorption.h"
 
 namespace veach {
@@ -15,7 +14,6 @@ constexpr int k_roulette_start = 3;
 
 Rgb PathTracer::trace(const RenderScene& rs, const CameraModel& camera, Vec3 origin, Vec3 dir, float time,
                       Sampler& rng, ThreadStats& stats) const {
-    const Scene& scene = rs.scene();
     const LightSet& lights = rs.lights();
     Rgb radiance(0.0f);
     Rgb beta(1.0f);
@@ -57,15 +55,15 @@ Rgb PathTracer::trace(const RenderScene& rs, const CameraModel& camera, Vec3 ori
         }
         // The camera ray's cone picks texture mip levels; later bounces read full resolution
         // (README, "Textures").
-        SurfaceHit hit = make_surface_hit(rs, rh, bounce == 0 ? camera.footprint_width(rh.t, dir) : 0.0f);
+        const ShadingPoint sp = make_shading_point(rs, rh, bounce == 0 ? camera.footprint_width(rh.t, dir) : 0.0f);
+        const SurfaceHit& hit = sp.hit;
         beta *= beer_lambert(sigma_a, rh.t * length(dir));  // the segment just travelled
         Vec3 wo = -dir;
 
         // Emission found by the BSDF-sampled direction (or seen directly by the camera).
-        int64_t emitter = lights.emitter_of(hit.instance, hit.prim);
+        const int64_t emitter = sp.emitter(rs);
         if (emitter >= 0) {
-            const auto& tl = std::get<TriangleLight>(lights.light(static_cast<size_t>(emitter)));
-            Rgb le = tl.radiance_toward(wo, evaluate_emission(*hit.material, scene, hit.attr));
+            Rgb le = sp.emitted(rs, emitter, wo);
             if (!le.is_black()) {
                 float w = 1.0f;
                 if (!prev_specular) {
@@ -77,9 +75,7 @@ Rgb PathTracer::trace(const RenderScene& rs, const CameraModel& camera, Vec3 ori
         }
         if (bounce >= m_settings.max_depth) break;
 
-        ShadingInputs in = evaluate_material(*hit.material, scene, hit.attr);
-        in.thin_walled = hit.thin_walled;
-        SurfaceBsdf bsdf(hit.ng, hit.ns, wo, in, hit.ns_coat);
+        SurfaceBsdf bsdf = sp.bsdf(rs, wo);
         if (bsdf.is_black()) break;
 
         // Next-event estimation.
