@@ -39,10 +39,12 @@ install: build
 
 # Sanitizers make rays ~10x dearer: VEACH_TEST_SPP_DIVISOR divides the render tests' sample
 # counts (their tolerances widen by its square root). Any report fails the test that caused it.
+# LD_LIBRARY_PATH: ASan intercepts dlopen, so the image module (libveach_image_io.so) is looked
+# up as if by libasan, without the test programs' RUNPATH that finds it in a plain build.
 test-sanitize: deps
 	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVEACH_SANITIZE=ON $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS)
-	@cd $(SANITIZE_DIR) && VEACH_TEST_SPP_DIVISOR=8 \
+	@cd $(SANITIZE_DIR) && VEACH_TEST_SPP_DIVISOR=8 LD_LIBRARY_PATH=$(CURDIR)/$(SANITIZE_DIR) \
 	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=0 \
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/robustness/lsan.supp:print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

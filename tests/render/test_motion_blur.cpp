@@ -457,8 +457,10 @@ TEST(MotionBlur, PtBdptAndLtAgreeOnAMovingAndTurningObject) {
         const double zs = (pt.mean[k] - sharp.mean[k]) / std::sqrt(pt.se[k] * pt.se[k] + sharp.se[k] * sharp.se[k] + 1e-12);
         differs = std::max(differs, std::fabs(zs));
     }
-    // The blur is there to agree on: some block differs from the sharp frame far beyond noise.
-    EXPECT_GT(differs, 10.0);
+    // The blur is there to agree on: some block differs from the sharp frame far beyond noise
+    // (about 28 standard errors at the full sample count; a sanitizer run's VEACH_TEST_SPP_DIVISOR
+    // of 8 divides it by sqrt(8), while equal means put the largest block near 3 or 4).
+    EXPECT_GT(differs, 6.0);
 }
 
 TEST(MotionBlur, ObjectsStillDuringTheShutterRenderBitForBitAsWithoutOne) {
