@@ -26,6 +26,7 @@
 #include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
+#include "scene/light_units.h"
 #include "textures/image_reader.h"
 
 namespace veach::gltf {
@@ -67,9 +68,8 @@ std::string stb_reason() {
 
 // A factor held to the range the glTF spec (or its extension) gives it, with one warning per
 // kind: a 1e30 base colour would otherwise reach the image as 1e30 times the light, and a
-// negative colour as negative light. Emission strength has no upper bound in the spec; past
-// k_max_emission_strength it would overflow single precision on its way to the film.
-constexpr double k_max_emission_strength = 1e9;
+// negative colour as negative light. Emission strength is held to k_max_emission_strength
+// (scene/light_units.h).
 
 double in_range(double v, double lo, double hi, const char* kind, ImportContext& context) {
     if (v >= lo && v <= hi) return v;
@@ -165,8 +165,8 @@ Material MaterialConverter::convert(int index) {
         m_context.warn(what + ": invalid emissiveFactor, using black");
     const tinygltf::Value* strength_ext = json_extension(src.extensions, "KHR_materials_emissive_strength");
     in_range(emissive, 0.0, 1.0, "emissiveFactor", m_context);
-    double strength = in_range(json_number(strength_ext, "emissiveStrength", 1.0), 0.0, k_max_emission_strength,
-                               "emissiveStrength", m_context);
+    double strength = in_range(json_number(strength_ext, "emissiveStrength", 1.0), 0.0,
+                               double(k_max_emission_strength), "emissiveStrength", m_context);
     m.emission = to_rgb(emissive) * static_cast<float>(strength);
     m_emissive[size_t(index)] = {to_rgb(emissive), static_cast<float>(strength)};
     m.emissive_texture = texture_ref(info(src.emissiveTexture), ColorSpace::Srgb, what + " emissiveTexture");
@@ -183,7 +183,7 @@ Material MaterialConverter::convert(int index) {
         if (json_member(spec, "specularColorFactor") && !numbers(json_member(spec, "specularColorFactor"), color))
             m_context.warn(what + ": invalid specularColorFactor, using white");
         // No upper bound in KHR_materials_specular (F0 is clamped to 1 where it is used).
-        in_range(color, 0.0, k_max_emission_strength, "specularColorFactor", m_context);
+        in_range(color, 0.0, double(k_max_emission_strength), "specularColorFactor", m_context);
         m.specular_color = to_rgb(color);
         m.specular_texture =
             texture_ref(json_info(json_member(spec, "specularTexture")), ColorSpace::Linear, what + " specularTexture");

@@ -10,6 +10,11 @@
 
 namespace veach {
 
+// The largest emission strength (KHR_materials_emissive_strength) a material keeps: the spec sets
+// no upper bound, and past this a strength would overflow single precision on its way to the
+// film. The importer holds the file's value to it, pose_scene an animated one.
+constexpr float k_max_emission_strength = 1e9f;
+
 // KHR_lights_punctual's intensity (candela for point and spot, lux for directional) with its
 // colour, in Cycles' radiometric units: Blender writes W/(4 pi) x 683 lm/W (point, spot) and
 // W/m^2 x 683 (sun).

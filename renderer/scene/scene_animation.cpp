@@ -150,8 +150,8 @@ PropertyValues animated_properties(const SceneAnimation& a, double seconds) {
 }
 
 // Writes animated material factors into the scene, held to the ranges the import holds the
-// file's to (factors in [0, 1], emission strength up to 1e9), so a material at its rest values
-// is bit for bit the one the import made.
+// file's to (factors in [0, 1], emission strength up to k_max_emission_strength), so a material
+// at its rest values is bit for bit the one the import made.
 void apply_material(Material& m, const MaterialRest& v) {
     Rgb base = clamped(v.base_color, 0.0f, 1.0f);
     if (v.unlit) {
@@ -160,7 +160,8 @@ void apply_material(Material& m, const MaterialRest& v) {
         m.base_color = base;
         m.metallic = clamped(v.metallic, 0.0f, 1.0f);
         m.roughness = clamped(v.roughness, 0.0f, 1.0f);
-        m.emission = clamped(v.emissive_factor, 0.0f, 1.0f) * clamped(v.emissive_strength, 0.0f, 1e9f);
+        m.emission =
+            clamped(v.emissive_factor, 0.0f, 1.0f) * clamped(v.emissive_strength, 0.0f, k_max_emission_strength);
     }
     m.base_alpha = clamped(v.base_alpha, 0.0f, 1.0f);
     if (std::isfinite(v.alpha_cutoff)) m.alpha_cutoff = v.alpha_cutoff;  // as the import takes it
