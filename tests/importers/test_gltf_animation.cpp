@@ -506,7 +506,8 @@ TEST(GltfAnimationPointer, UnlitBaseColourAnimatesWhatIsSeen) {
     GltfBuilder b = material_triangle();
     b.doc["materials"][0]["extensions"] = {{"KHR_materials_unlit", json::object()}};
     animate_pointer(b, "/materials/0/pbrMetallicRoughness/baseColorFactor", {0, 1}, {1, 1, 1, 1, 0, 0.5f, 1, 1}, "VEC4");
-    const Material& m = posed(b, 1.0).materials[0];
+    const Scene s = posed(b, 1.0);
+    const Material& m = s.materials[0];
     expect_rgb(m.emission, 0.0f, 0.5f, 1.0f);
     expect_rgb(m.base_color, 0.0f, 0.0f, 0.0f);
 }
