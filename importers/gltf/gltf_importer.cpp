@@ -476,6 +476,7 @@ private:
 
 void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
     if (bytes.size() > k_max_file_bytes) throw GltfError("file too large (over 4 GiB)");
+    if (binary) gltf::check_glb_layout(bytes);
     check_parse_memory(gltf::json_chunk(bytes, binary).size(), bytes.size());
     check_json_outline(outline_json(gltf::json_chunk(bytes, binary)), bytes, binary);
     std::optional<std::vector<uint8_t>> patched = gltf::patch_draco_index_accessors(bytes, binary, m_draco_indices);

@@ -11,6 +11,11 @@
 
 namespace veach::gltf {
 
+// Refuses (GltfError) a .glb whose header or chunks declare more bytes than it has: tinygltf 2.7
+// checks the header's length but trusts the BIN chunk's, and the rewrites below must not hide a
+// truncated file from it. glTF 1.0's binary form is left to the version check.
+void check_glb_layout(std::span<const uint8_t> file);
+
 // The file's JSON: all of a .gltf, the first chunk of a .glb (empty when the header is short;
 // clamped to the file when the chunk length overruns it, for tinygltf to report).
 std::string_view json_chunk(std::span<const uint8_t> file, bool binary);

@@ -400,6 +400,17 @@ TEST(GltfDracoErrors, TruncatedStream) {
     }
 }
 
+// The same cut through a .glb, where the importer rewrites the JSON (Draco's index accessors get
+// a placeholder view) before tinygltf reads the file: the rewrite must not make a cut file look
+// whole (the fuzzer's finding: tinygltf then read the BIN chunk past the file's end).
+TEST(GltfDracoErrors, CutGlbIsRefusedThroughTheJsonRewrite) {
+    std::vector<uint8_t> glb = small_scene(small_stream()).glb();
+    glb.resize(glb.size() - 5);
+    TempDir dir;
+    std::string msg = expect_import_error(dir.write("cut.glb", glb));
+    EXPECT_NE(msg.find("truncated .glb"), std::string::npos) << msg;
+}
+
 // Random corruption of the stream: whatever Draco makes of it, the import either succeeds with
 // indices inside the mesh or fails with an ImportError (sanitizer builds check the reads).
 TEST(GltfDracoErrors, CorruptedStreamsNeverCrash) {

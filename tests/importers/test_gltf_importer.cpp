@@ -6,6 +6,7 @@
 #include "materials/texture_sampling.h"
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -686,6 +687,27 @@ TEST(GltfImporterErrors, TruncatedGlb) {
     glb.resize(glb.size() - 20);
     TempDir dir;
     expect_import_error(dir.write("cut.glb", glb));
+}
+
+// A .glb whose BIN chunk declares more bytes than the file has: refused by name before tinygltf
+// (2.7 copies the chunk by its declared length, reading past the file), whether the header's own
+// length says so too (a file cut short) or was left consistent.
+TEST(GltfImporterErrors, GlbChunkLongerThanTheFile) {
+    GltfBuilder b = triangle_scene();
+    const std::vector<uint8_t> whole = b.glb();
+    TempDir dir;
+    std::vector<uint8_t> cut(whole.begin(), whole.end() - 5);
+    std::string msg = expect_import_error(dir.write("cut.glb", cut));
+    EXPECT_NE(msg.find("truncated .glb"), std::string::npos) << msg;
+    std::vector<uint8_t> consistent = cut;
+    const uint32_t length = uint32_t(consistent.size());
+    std::memcpy(consistent.data() + 8, &length, 4);
+    msg = expect_import_error(dir.write("consistent.glb", consistent));
+    EXPECT_NE(msg.find("truncated .glb: chunk 1 declares"), std::string::npos) << msg;
+    // Bytes past the declared length are not the file's: ignored, as the format says.
+    std::vector<uint8_t> trailing = whole;
+    trailing.insert(trailing.end(), {1, 2, 3});
+    EXPECT_EQ(import_scene(dir.write("trailing.glb", trailing).string()).meshes.size(), 1u);
 }
 
 TEST(GltfImporterErrors, AccessorPastBufferEnd) {
