@@ -8,13 +8,17 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <future>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 
 #include "cli_options.h"
 #include "animation_options.h"
@@ -141,6 +145,30 @@ std::string json_escape(const std::string& s) {
     return out;
 }
 
+// One line at a time on stderr: a sequence's frame writer reports frame N while frame N+1's
+// progress is drawn. On a terminal the line first clears the bar it lands on (the next progress
+// update draws the bar again below it).
+std::mutex& stderr_mutex() {
+    static std::mutex m;
+    return m;
+}
+void print_stderr_line(const std::string& line) {
+    std::lock_guard<std::mutex> lock(stderr_mutex());
+    std::fprintf(stderr, "%s%s\n", isatty(STDERR_FILENO) ? "\r\033[K" : "", line.c_str());
+}
+std::string formatted(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string formatted(const char* format, ...) {
+    va_list args, again;
+    va_start(args, format);
+    va_copy(again, args);
+    const int n = std::vsnprintf(nullptr, 0, format, args);
+    va_end(args);
+    std::string out(n > 0 ? static_cast<size_t>(n) : 0, '\0');
+    if (n > 0) std::vsnprintf(out.data(), out.size() + 1, format, again);
+    va_end(again);
+    return out;
+}
+
 // Progress on stderr: a bar with an ETA on a terminal; in logs (farm managers, CI), a plain line
 // at every pass and at least every VEACH_PROGRESS_INTERVAL seconds (5) between passes, so that a stall
 // detector watching the log sees life even in passes that take minutes:
@@ -169,6 +197,7 @@ public:
         m_eta = eta;
         m_estimated = true;
         if (m_tty) {
+            std::lock_guard<std::mutex> out(stderr_mutex());
             int filled = static_cast<int>(fraction * 30);
             std::fprintf(stderr, "\r%s[%-30s] %3d%%  ETA %5.1fs", m_label.c_str(), std::string(filled, '#').c_str(),
                          percent(), eta);
@@ -183,7 +212,10 @@ public:
         if (seconds_since(m_last_line) >= m_interval) print_line();
     }
     void finish() {
-        if (!m_quiet && m_tty) std::fprintf(stderr, "\n");
+        if (!m_quiet && m_tty) {
+            std::lock_guard<std::mutex> out(stderr_mutex());
+            std::fprintf(stderr, "\n");
+        }
     }
 
 private:
@@ -193,6 +225,7 @@ private:
     void print_line() {
         char eta[32] = "-";
         if (m_estimated) std::snprintf(eta, sizeof(eta), "%.1fs", m_eta);
+        std::lock_guard<std::mutex> out(stderr_mutex());
         std::fprintf(stderr, "Progress: %s%d%% elapsed %.1fs ETA %s\n", m_label.c_str(), percent(),
                      seconds_since(m_start), eta);
         std::fflush(stderr);
@@ -218,7 +251,25 @@ struct Timings {
     double load = 0, build = 0, render = 0, write = 0, total = 0;
 };
 
-void write_stats_json(const std::string& path, const std::string& input, VeachDevice device, VeachScene scene,
+// What --stats-json reports of the scene, read when the frame's render ends: a sequence writes
+// frame N's file while the scene is already posed for frame N+1.
+struct SceneFacts {
+    long long triangles = 0;
+    std::vector<std::pair<const char*, long long>> repaired;
+    std::vector<std::string> features;
+};
+SceneFacts scene_facts(VeachScene scene) {
+    SceneFacts f;
+    f.triangles = scene_int(scene, "triangles");
+    for (const char* key : {"invalid_indices", "nonfinite_triangles", "degenerate_triangles", "duplicate_triangles",
+                            "normals_replaced", "normals_normalized", "uvs_replaced", "colors_replaced",
+                            "lights_dropped"})
+        f.repaired.emplace_back(key, scene_int(scene, (std::string("repaired_") + key).c_str()));
+    f.features = split_lines(scene_string(scene, "features"));
+    return f;
+}
+
+void write_stats_json(const std::string& path, const std::string& input, VeachDevice device, const SceneFacts& scene,
                       VeachRender render, const Timings& t) {
     std::ostringstream js;
     double samples = static_cast<double>(render_int(render, "result_camera_samples"));
@@ -234,7 +285,7 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
        << "  \"threads\": " << render_int(render, "result_threads") << ",\n"
        << "  \"seed\": " << static_cast<unsigned long long>(render_int(render, "seed")) << ",\n"
        << "  \"camera\": \"" << json_escape(render_string(render, "result_camera")) << "\",\n"
-       << "  \"triangles\": " << scene_int(scene, "triangles") << ",\n"
+       << "  \"triangles\": " << scene.triangles << ",\n"
        << "  \"seconds\": {\"load\": " << t.load << ", \"build\": " << t.build << ", \"render\": " << t.render
        << ", \"write\": " << t.write << ", \"total\": " << t.total << "},\n"
        << "  \"samples_per_second\": " << (t.render > 0 ? samples / t.render : 0.0) << ",\n"
@@ -242,18 +293,12 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
        << "  \"rays_per_second\": " << (t.render > 0 ? rays / t.render : 0.0) << ",\n"
        << "  \"nonfinite_samples\": " << render_int(render, "result_nonfinite_samples") << ",\n"
        << "  \"peak_rss_bytes\": " << peak << ",\n"
-       << "  \"repaired\": {\"invalid_indices\": " << scene_int(scene, "repaired_invalid_indices")
-       << ", \"nonfinite_triangles\": " << scene_int(scene, "repaired_nonfinite_triangles")
-       << ", \"degenerate_triangles\": " << scene_int(scene, "repaired_degenerate_triangles")
-       << ", \"duplicate_triangles\": " << scene_int(scene, "repaired_duplicate_triangles")
-       << ", \"normals_replaced\": " << scene_int(scene, "repaired_normals_replaced")
-       << ", \"normals_normalized\": " << scene_int(scene, "repaired_normals_normalized")
-       << ", \"uvs_replaced\": " << scene_int(scene, "repaired_uvs_replaced")
-       << ", \"colors_replaced\": " << scene_int(scene, "repaired_colors_replaced")
-       << ", \"lights_dropped\": " << scene_int(scene, "repaired_lights_dropped") << "},\n"
+       << "  \"repaired\": {";
+    for (size_t i = 0; i < scene.repaired.size(); ++i)
+        js << (i ? ", " : "") << "\"" << scene.repaired[i].first << "\": " << scene.repaired[i].second;
+    js << "},\n"
        << "  \"features\": [";
-    std::vector<std::string> features = split_lines(scene_string(scene, "features"));
-    for (size_t i = 0; i < features.size(); ++i) js << (i ? ", " : "") << "\"" << features[i] << "\"";
+    for (size_t i = 0; i < scene.features.size(); ++i) js << (i ? ", " : "") << "\"" << scene.features[i] << "\"";
     js << "]\n}\n";
     const std::string text = js.str();
     // Through the library's atomic writer, as images are: never a torn file under `path`.
@@ -263,15 +308,15 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
 
 // Renders on the library's own thread while this one watches for a stop signal: the signal
 // handler only sets g_cancel, and veachCancelRender is called here, in ordinary code, within
-// 20 ms of it. Returns the final status (the last error holds a failure's message).
-VeachStatus render_and_watch(VeachRender render, ProgressPrinter& progress) {
+// 20 ms of it (and as soon as `stop`, when given, is set). Returns the final status (the last error holds a failure's message).
+VeachStatus render_and_watch(VeachRender render, ProgressPrinter& progress, const std::atomic<bool>* stop) {
     if (veachRenderAsync(render) != VEACH_ERROR_NONE) return VEACH_STATUS_FAILED;
     bool cancelled = false;
     for (;;) {
         VeachStatus status = veachWaitRender(render, 20);
         if (status != VEACH_STATUS_RUNNING) return status;
         progress.heartbeat();
-        if (!cancelled && g_cancel.load()) {
+        if (!cancelled && (g_cancel.load() || (stop && stop->load()))) {
             veachCancelRender(render);
             cancelled = true;
         }
@@ -314,41 +359,57 @@ bool output_complete(VeachDevice device, VeachRender options, const std::string&
            value("veach:pixelbounds") == render_string(options, "pixelbounds");
 }
 
-// Renders one frame of a loaded scene (or the still: no frame) to its outputs. `t` brings the
-// load's time (the first frame's), t0 when this frame's work began; `label` prefixes progress lines.
-int render_frame(VeachDevice device, const RenderCommand& cmd, const std::string& input, VeachScene scene, Timings t,
-                 std::chrono::steady_clock::time_point t0, const long long* frame, const std::string& label) {
-    using clock = std::chrono::steady_clock;
-    auto seconds = [](clock::time_point a, clock::time_point b) {
-        return std::chrono::duration<double>(b - a).count();
-    };
-    RenderRef render{veachNewRender(scene)};
-    if (!render.h) {
+// A frame whose render has ended, on its way to its files: the render (its image), what its
+// files need, and whether a signal cut it short.
+struct RenderedFrame {
+    std::unique_ptr<RenderRef> render;
+    RenderCommand cmd;  // this frame's (outputs and --stats-json with the frame filled in)
+    std::string input;
+    Timings t;
+    std::chrono::steady_clock::time_point t0;
+    SceneFacts scene;
+    bool interrupted = false, checkpointing = false;
+    std::string checkpoint;
+    long long spp_done = 0, spp_requested = 0;
+};
+
+// Renders one frame of a loaded scene (or the still: no frame). `t` brings the load's time (the
+// first frame's), t0 when this frame's work began; `label` prefixes progress lines. Returns k_ok
+// with `out` filled when there is an image to write, else the exit code (the message printed).
+// `stop` (a sequence's failed write) cancels the render; the frame is then not written.
+int render_frame_image(const RenderCommand& cmd, const std::string& input, VeachScene scene, Timings t,
+                       std::chrono::steady_clock::time_point t0, const long long* frame, const std::string& label,
+                       const std::atomic<bool>* stop, RenderedFrame& out) {
+    auto render = std::make_unique<RenderRef>();
+    render->h = veachNewRender(scene);
+    if (!render->h) {
         std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
         return k_failure;
     }
+    VeachRender r = render->h;
     for (const ApiOption& o : cmd.render_options) {
-        if (apply_render_option(render.h, o) != VEACH_ERROR_NONE) {  // e.g. no such camera
+        if (apply_render_option(r, o) != VEACH_ERROR_NONE) {  // e.g. no such camera
             std::fprintf(stderr, "veach: %s: %s\n", input.c_str(), veachGetLastError());
             return k_bad_input;
         }
     }
     if (frame && cmd.animated_seed) {
-        const long long seed = render_int(render.h, "seed");
-        veachSetInt(render.h, "seed", static_cast<long long>(animated_seed(static_cast<uint64_t>(seed), *frame)));
+        const long long seed = render_int(r, "seed");
+        veachSetInt(r, "seed", static_cast<long long>(animated_seed(static_cast<uint64_t>(seed), *frame)));
     }
     const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
     const std::string checkpoint = checkpoint_path_for(cmd, input);
     if (checkpointing) {
-        veachSetString(render.h, "checkpoint", checkpoint.c_str());
-        veachSetFloat(render.h, "checkpoint_interval", cmd.checkpoint_seconds);  // < 0: never written
-        veachSetInt(render.h, "resume", cmd.resume ? 1 : 0);
+        veachSetString(r, "checkpoint", checkpoint.c_str());
+        veachSetFloat(r, "checkpoint_interval", cmd.checkpoint_seconds);  // < 0: never written
+        veachSetInt(r, "resume", cmd.resume ? 1 : 0);
     }
     ProgressPrinter progress(cmd.quiet, label);
-    veachSetProgressFunction(render.h, on_progress, &progress);
-    const long long spp_requested = render_int(render.h, "spp");
+    veachSetProgressFunction(r, on_progress, &progress);
+    const long long spp_requested = render_int(r, "spp");
 
-    VeachStatus status = render_and_watch(render.h, progress);
+    VeachStatus status = render_and_watch(r, progress, stop);
+    if (stop && stop->load()) return k_failure;  // the sequence stops at the write that failed
     if (status == VEACH_STATUS_FAILED) {
         VeachError e = veachGetLastErrorCode();
         const char* message = veachGetLastError();
@@ -365,57 +426,80 @@ int render_frame(VeachDevice device, const RenderCommand& cmd, const std::string
         return e == VEACH_ERROR_BAD_INPUT || e == VEACH_ERROR_INVALID_ARGUMENT ? k_bad_input : k_failure;
     }
     progress.finish();
-    for (const std::string& w : split_lines(render_string(render.h, "result_warnings")))
+    for (const std::string& w : split_lines(render_string(r, "result_warnings")))
         std::fprintf(stderr, "veach: warning: %s: %s\n", input.c_str(), w.c_str());
     // The library calls a render cancelled only when it has fewer samples than asked: a signal
     // after the last pass leaves a complete image.
-    const long long spp_done = render_int(render.h, "result_spp");
+    const long long spp_done = render_int(r, "result_spp");
     const bool interrupted = status == VEACH_STATUS_CANCELLED && g_cancel.load();
     if (interrupted && spp_done == 0) {
         std::fprintf(stderr, "veach: %s: interrupted by %s before the first pass completed; nothing written\n",
                      input.c_str(), signal_name(g_signal));
         return k_interrupted;
     }
-    t.build = render_float(render.h, "build_seconds");
-    t.render = render_float(render.h, "render_seconds");
+    t.build = render_float(r, "build_seconds");
+    t.render = render_float(r, "render_seconds");
+    out.render = std::move(render);
+    out.cmd = cmd;
+    out.input = input;
+    out.t = t;
+    out.t0 = t0;
+    out.scene = scene_facts(scene);
+    out.interrupted = interrupted;
+    out.checkpointing = checkpointing;
+    out.checkpoint = checkpoint;
+    out.spp_done = spp_done;
+    out.spp_requested = spp_requested;
+    return k_ok;
+}
 
+// Writes a rendered frame's outputs (each atomically: temporary, fsync, rename), removes its
+// checkpoint and writes --stats-json; returns the frame's exit code. Touches only the frame's own
+// render and the device, so a sequence runs it on a thread of its own while the next frame
+// renders. Messages go out whole lines at a time.
+int write_frame(VeachDevice device, RenderedFrame& f) {
+    using clock = std::chrono::steady_clock;
+    const VeachRender r = f.render->h;
+    const std::string& input = f.input;
     auto t2 = clock::now();
     std::string written;
-    for (const std::string& pattern : cmd.outputs) {
+    for (const std::string& pattern : f.cmd.outputs) {
         std::string out = output_path_for(pattern, input);
-        if (veachWriteImage(render.h, out.c_str()) != VEACH_ERROR_NONE) {
-            std::fprintf(stderr, "veach: %s\n", veachGetLastError());
+        if (veachWriteImage(r, out.c_str()) != VEACH_ERROR_NONE) {
+            print_stderr_line(formatted("veach: %s", veachGetLastError()));
             return k_failure;
         }
         written += (written.empty() ? "" : ", ") + out;
     }
     // The image is safely in place: the state it was resumable from has served its purpose.
-    if (checkpointing && !interrupted) {
+    if (f.checkpointing && !f.interrupted) {
         std::error_code ec;
-        std::filesystem::remove(checkpoint, ec);
+        std::filesystem::remove(f.checkpoint, ec);
     }
     auto t3 = clock::now();
-    t.write = seconds(t2, t3);
-    t.total = seconds(t0, t3);
-    if (long long nonfinite = render_int(render.h, "result_nonfinite_samples"); nonfinite > 0)
-        std::fprintf(stderr, "veach: warning: %s: %llu non-finite samples dropped\n", input.c_str(),
-                     static_cast<unsigned long long>(nonfinite));
-    if (!cmd.stats_json.empty()) {
+    Timings t = f.t;
+    t.write = std::chrono::duration<double>(t3 - t2).count();
+    t.total = std::chrono::duration<double>(t3 - f.t0).count();
+    if (long long nonfinite = render_int(r, "result_nonfinite_samples"); nonfinite > 0)
+        print_stderr_line(formatted("veach: warning: %s: %llu non-finite samples dropped", input.c_str(),
+                                    static_cast<unsigned long long>(nonfinite)));
+    if (!f.cmd.stats_json.empty()) {
         try {
-            write_stats_json(output_path_for(cmd.stats_json, input), input, device, scene, render.h, t);
+            write_stats_json(output_path_for(f.cmd.stats_json, input), input, device, f.scene, r, t);
         } catch (const std::exception& e) {
-            std::fprintf(stderr, "veach: %s\n", e.what());
+            print_stderr_line(formatted("veach: %s", e.what()));
             return k_failure;
         }
     }
-    if (interrupted) {
-        std::fprintf(stderr, "veach: %s: interrupted by %s: wrote %s with %lld of %lld spp\n", input.c_str(),
-                     signal_name(g_signal), written.c_str(), spp_done, spp_requested);
+    if (f.interrupted) {
+        print_stderr_line(formatted("veach: %s: interrupted by %s: wrote %s with %lld of %lld spp", input.c_str(),
+                                    signal_name(g_signal), written.c_str(), f.spp_done, f.spp_requested));
         return k_interrupted;
     }
-    if (!cmd.quiet)
-        std::fprintf(stderr, "veach: %s -> %s (%lldx%lld, %lld spp, %.2fs)\n", input.c_str(), written.c_str(),
-                     render_int(render.h, "result_width"), render_int(render.h, "result_height"), spp_done, t.total);
+    if (!f.cmd.quiet)
+        print_stderr_line(formatted("veach: %s -> %s (%lldx%lld, %lld spp, %.2fs)", input.c_str(), written.c_str(),
+                                    render_int(r, "result_width"), render_int(r, "result_height"), f.spp_done,
+                                    t.total));
     return k_ok;
 }
 
@@ -486,9 +570,36 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
     t.load = seconds(t0, clock::now());
     const std::string label =
         count > 1 ? "[" + std::to_string(index) + "/" + std::to_string(count) + "] " + input + " " : std::string();
-    if (!animated) return render_frame(device, cmd, input, scene.h, t, t0, nullptr, label);
+    if (!animated) {
+        RenderedFrame still;
+        int rc = render_frame_image(cmd, input, scene.h, t, t0, nullptr, label, nullptr, still);
+        return rc == k_ok ? write_frame(device, still) : rc;
+    }
     // A sequence from this one load: each later frame poses the loaded scene again (the file is
-    // not read again; the scene keeps its BVH and light tables and updates what moved).
+    // not read again; the scene keeps its BVH and light tables and updates what moved). Frame N's
+    // files are written on a thread of their own while frame N+1 renders: a queue of one, so at
+    // most one finished frame is held besides the film in progress. A write that fails stops the
+    // sequence: the frame rendering meanwhile is cancelled and nothing after the failed frame is
+    // written. Every write has ended before this returns (`writing` is declared after the scene,
+    // so even an early return waits for it while the scene lives).
+    std::atomic<bool> write_failed{false};
+    std::future<int> writing;  // the previous frame's write
+    auto write_in_background = [&](RenderedFrame frame) {
+        auto job = std::make_shared<RenderedFrame>(std::move(frame));
+        auto write = [device, job, &write_failed] {
+            const int rc = write_frame(device, *job);
+            if (rc == k_failure) write_failed.store(true);
+            return rc;
+        };
+        try {
+            writing = std::async(std::launch::async, write);
+        } catch (const std::system_error&) {  // no thread to be had: write it here, as a still is
+            std::promise<int> done;
+            done.set_value(write());
+            writing = done.get_future();
+        }
+    };
+    auto previous_write = [&] { return writing.valid() ? writing.get() : k_ok; };
     int worst = k_ok;
     for (size_t k = 0; k < frames.size(); ++k) {
         if (k > 0) {
@@ -496,17 +607,27 @@ int render_one(VeachDevice device, const RenderCommand& cmd, const std::string& 
             t.load = 0;
             if (veachSetSceneFloat(scene.h, "time", frame_time(cmd, frames[k])) != VEACH_ERROR_NONE) {
                 std::fprintf(stderr, "veach: %s: frame %lld: %s\n", input.c_str(), frames[k], veachGetLastError());
+                previous_write();
                 return k_failure;
             }
         }
         const std::string frame_label =
             frames.size() > 1 ? label + "frame " + std::to_string(frames[k]) + " " : label;
-        int rc = render_frame(device, command_for_frame(cmd, frames[k]), input, scene.h, t, t0, &frames[k],
-                              frame_label);
-        if (rc == k_interrupted || g_cancel.load()) return k_interrupted;
+        RenderedFrame rendered;
+        int rc = render_frame_image(command_for_frame(cmd, frames[k]), input, scene.h, t, t0, &frames[k], frame_label,
+                                    &write_failed, rendered);
+        const int written = previous_write();
+        if (written == k_failure) return k_failure;  // reported by the writer; this frame is not written
+        if (written == k_interrupted || rc == k_interrupted) return k_interrupted;
+        if (rc == k_ok) write_in_background(std::move(rendered));
         worst = std::max(worst, rc);
+        if (g_cancel.load()) {
+            previous_write();
+            return k_interrupted;
+        }
     }
-    return worst;
+    const int last = previous_write();
+    return last == k_interrupted ? k_interrupted : std::max(worst, last);
 }
 
 // A render of an empty scene carrying the command's render options: what the outputs should be

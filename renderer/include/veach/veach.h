@@ -275,7 +275,10 @@ VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* d
  * A path ending in .vpart (since 0.4) writes a part file instead: the film's exact double sums for
  * the render's sample range and pixel bounds, its light-tracing splats over the whole frame, and
  * the render's identity (a hash of every image-shaping setting and of the content, never the
- * path, of every file the scene read), zlib-compressed with a CRC. */
+ * path, of every file the scene read), zlib-compressed with a CRC. It reads only the render's
+ * own finished result (and the scene's source name), so a host rendering a sequence may write
+ * frame N on a thread of its own while the scene is posed at frame N+1 and renders it, the
+ * file's fsync hidden behind that render: the veach command does. */
 VEACH_API VeachError veachWriteImage(VeachRender render, const char* path);
 /* Whether veachWriteImage(render, path) could write `path` with the render's current options,
  * without rendering or writing anything (since 0.5), so that a farm task refuses a typo at once
