@@ -74,11 +74,17 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
                           environment (which still lights the scene) and alpha is the pixel's
                           fraction of camera samples that hit geometry (EXR, PNG, TIFF keep it;
                           not with --samples or --pixelbounds)
+  --denoise               denoise the image (a feature-guided regression on two half images;
+                          biased: its error goes to zero as samples grow); with --passes the
+                          EXR also gets noisy (the image as rendered) and denoising_normal,
+                          denoising_albedo, denoising_depth (not with --samples or --pixelbounds)
   --half                  EXR with half floats
   --exr-codec NAME        EXR compression: none, rle, zips, zip (default), piz, pxr24, b44,
                           b44a, dwaa, dwab (zip:N, dwaa:N set a level)
   --passes LIST           multi-layer EXR with Blender's pass names, from combined, depth,
-                          normal, albedo, variance (e.g. combined,depth,normal,albedo)
+                          normal, albedo, variance (e.g. combined,depth,normal,albedo), and
+                          with --denoise noisy, denoising_normal, denoising_albedo,
+                          denoising_depth
   --quality Q             JPEG quality 1-100 (default 95)
   --bits 8|16             PNG/TIFF bit depth (default 8)
   --stats-json FILE       write render statistics as JSON
@@ -340,6 +346,8 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
             render_opt(int_option("half", 1));
         else if (a == "--transparent")
             render_opt(int_option("transparent", 1));
+        else if (a == "--denoise")
+            render_opt(int_option("denoise", 1));
         else if (a == "--filter") {
             const std::string& v = value();
             render_opt(string_option("filter", v),

@@ -248,7 +248,7 @@ extern "C" bool on_progress(void* user, double fraction, double eta) {
 }
 
 struct Timings {
-    double load = 0, build = 0, render = 0, write = 0, total = 0;
+    double load = 0, build = 0, render = 0, denoise = 0, write = 0, total = 0;
 };
 
 // What --stats-json reports of the scene, read when the frame's render ends: a sequence writes
@@ -287,7 +287,7 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
        << "  \"camera\": \"" << json_escape(render_string(render, "result_camera")) << "\",\n"
        << "  \"triangles\": " << scene.triangles << ",\n"
        << "  \"seconds\": {\"load\": " << t.load << ", \"build\": " << t.build << ", \"render\": " << t.render
-       << ", \"write\": " << t.write << ", \"total\": " << t.total << "},\n"
+       << ", \"denoise\": " << t.denoise << ", \"write\": " << t.write << ", \"total\": " << t.total << "},\n"
        << "  \"samples_per_second\": " << (t.render > 0 ? samples / t.render : 0.0) << ",\n"
        << "  \"rays\": " << render_int(render, "result_rays") << ",\n"
        << "  \"rays_per_second\": " << (t.render > 0 ? rays / t.render : 0.0) << ",\n"
@@ -439,6 +439,7 @@ int render_frame_image(const RenderCommand& cmd, const std::string& input, Veach
     }
     t.build = render_float(r, "build_seconds");
     t.render = render_float(r, "render_seconds");
+    t.denoise = render_float(r, "denoise_seconds");
     out.render = std::move(render);
     out.cmd = cmd;
     out.input = input;

@@ -45,12 +45,15 @@ VeachError VeachRenderImpl::run() {
         }
     } leave{m_render_thread};
     veach::RenderJobOptions job;
+    std::string denoise_pass;  // a pass only a denoised render has, asked for without denoising
     VeachProgressFunction progress_fn;
     void* progress_user;
     {
         std::lock_guard<std::mutex> lock(m_mutex);
         job = m_job;
         job.checkpoint.scene_hash = m_scene->m_load.identity;
+        for (const std::string& p : m_output.passes)
+            if (veach::pass_needs_denoise(p) && !job.denoise) denoise_pass = p;
         progress_fn = m_progress_fn;
         progress_user = m_progress_user;
         m_failure = VEACH_ERROR_NONE;
@@ -71,6 +74,8 @@ VeachError VeachRenderImpl::run() {
     std::string message;
     VeachStatus status = VEACH_STATUS_DONE;
     try {
+        if (!denoise_pass.empty())
+            throw std::invalid_argument("the pass '" + denoise_pass + "' needs denoising (--denoise, option 'denoise')");
         auto result = std::make_shared<veach::RenderResult>(
             veach::render_scene(m_scene->m_load.scene, job, control, &m_scene->m_prepared));
         // A time limit shorter than the first pass leaves no image at all: an error, never an
@@ -163,6 +168,7 @@ const OptionTable k_options{
      "resume",
      "sample_begin",
      "sample_end",
+     "denoise",
      "result_width",
      "result_height",
      "result_spp",
@@ -173,7 +179,7 @@ const OptionTable k_options{
      "result_nonfinite_samples",
      "result_threads"},
     {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress", "eta_seconds",
-     "render_seconds", "build_seconds"},
+     "render_seconds", "build_seconds", "denoise_seconds"},
     {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes", "checkpoint",
      "pixelbounds", "result_camera", "result_integrator", "result_warnings"}};
 
@@ -181,7 +187,7 @@ void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wan
 
 bool is_result(const std::string& n) {
     return n.rfind("result_", 0) == 0 || n == "progress" || n == "eta_seconds" || n == "render_seconds" ||
-           n == "build_seconds";
+           n == "build_seconds" || n == "denoise_seconds";
 }
 
 std::string join(const std::vector<std::string>& items, const char* separator) {
@@ -372,6 +378,8 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
             job.part.sample_begin = to_int(n, value, 0, k_int_max - 1);
         else if (n == "sample_end")
             job.part.sample_end = to_int(n, value, 0, k_int_max);
+        else if (n == "denoise")
+            job.denoise = to_int(n, value, 0, 1) != 0;
         return VEACH_ERROR_NONE;
     });
 }
@@ -506,6 +514,8 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
             *value = job.part.sample_begin;
         else if (n == "sample_end")
             *value = job.part.sample_end;
+        else if (n == "denoise")
+            *value = job.denoise ? 1 : 0;
         else if (n == "result_resumed_spp")
             *value = r ? r->resumed_spp : 0;
         else if (n == "result_complete")
@@ -546,6 +556,8 @@ VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double*
                 *value = render->m_result ? render->m_result->render_seconds : 0.0;
             else if (n == "build_seconds")
                 *value = render->m_result ? render->m_result->build_seconds : 0.0;
+            else if (n == "denoise_seconds")
+                *value = render->m_result ? render->m_result->denoise_seconds : 0.0;
             else if (n == "noise")
                 *value = render->m_job.render.noise_target;
             else if (n == "checkpoint_interval")
@@ -718,13 +730,23 @@ VeachError copy_pass(VeachRender render, const char* pass, float* dst, size_t ds
             source = &image.variance, channels = 3;
         else if (p == "samples")
             source = &image.sample_count, channels = 1;
+        else if (p == "noisy")
+            source = &image.noisy, channels = 3;
+        else if (p == "denoising_normal")
+            source = &image.denoising_normal, channels = 3;
+        else if (p == "denoising_albedo")
+            source = &image.denoising_albedo, channels = 3;
+        else if (p == "denoising_depth")
+            source = &image.denoising_depth, channels = 1;
         else
             throw invalid("veachGetPass: unknown pass '" + p +
-                          "' (known: combined, depth, normal, albedo, variance, samples)");
+                          "' (known: combined, depth, normal, albedo, variance, samples, noisy, denoising_normal, "
+                          "denoising_albedo, denoising_depth)");
         const size_t pixels = static_cast<size_t>(image.width) * image.height;
         if (source->size() != pixels * channels)
             throw ApiError{VEACH_ERROR_INVALID_OPERATION,
-                           "veachGetPass: pass '" + p + "' was not recorded (set the int option 'aovs' to 1)"};
+                           "veachGetPass: pass '" + p + "' was not recorded (set the int option '" +
+                               (veach::pass_needs_denoise(p) ? "denoise" : "aovs") + "' to 1)"};
         size_t row_bytes = static_cast<size_t>(image.width) * 4 * sizeof(float);
         if (row_stride_bytes == 0) row_stride_bytes = row_bytes;
         if (row_stride_bytes < row_bytes) throw invalid("veachGetPass: row stride smaller than a row");

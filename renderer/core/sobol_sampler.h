@@ -126,6 +126,9 @@ public:
     // render has a shutter (an image without motion blur is unchanged). Sobol: the pixel's
     // samples stratify the shutter as they stratify every pair (Owen-scrambled van der Corput,
     // index shuffled by its own scramble); Random: an independent value.
+    // The sample index this sampler was made for (the denoiser's halves split by it).
+    uint32_t sample_index() const { return reverse_bits(m_index_reversed); }
+
     float shutter_time() const {
         const uint64_t h = mix64(m_key ^ 0x5851f42d4c957f2dull);
         if (m_random) return to_unit(static_cast<uint32_t>(mix64(h + m_index_reversed) >> 32));

@@ -16,6 +16,12 @@ Film::Film(int width, int height, const FilmSettings& settings)
     for (size_t i = 0; i < static_cast<size_t>(width) * height * 3; ++i) m_splats[i] = 0.0;
     if (settings.aovs) m_aovs.resize(m_pixels.size());
     if (settings.alpha) m_alpha_hits.assign(m_pixels.size(), 0.0);
+    if (settings.halves) {
+        m_odd.resize(m_pixels.size());
+        m_features.resize(m_pixels.size());
+        m_odd_splats.reset(new std::atomic<double>[m_pixels.size() * 3]);
+        for (size_t i = 0; i < m_pixels.size() * 3; ++i) m_odd_splats[i] = 0.0;
+    }
 }
 
 namespace {
@@ -39,16 +45,43 @@ void Film::add_aovs(size_t i, const PixelAovs& aovs) {
     a.count += 1.0;
 }
 
-void Film::add_splat(float fx, float fy, const Rgb& value) {
+void Film::add_to_halves(size_t i, const Rgb& radiance, uint32_t sample_index, const DenoiseFeatures* features) {
+    if (sample_index & 1u) {
+        HalfSums& h = m_odd[i];
+        h.sum[0] += radiance.r;
+        h.sum[1] += radiance.g;
+        h.sum[2] += radiance.b;
+        h.weight += 1.0;
+    }
+    if (!features || !features->hit) return;
+    FeatureSums& f = m_features[i];
+    const float albedo[3] = {features->albedo.r, features->albedo.g, features->albedo.b};
+    const float normal[3] = {features->normal.x, features->normal.y, features->normal.z};
+    const float position[3] = {features->position.x, features->position.y, features->position.z};
+    for (int c = 0; c < 3; ++c) {
+        f.albedo[c] += albedo[c];
+        f.normal[c] += normal[c];
+        f.position[c] += position[c];
+    }
+    f.depth += features->depth;
+    f.hits += 1.0f;
+}
+
+void Film::add_splat(float fx, float fy, const Rgb& value, uint32_t sample_index) {
+    splat_into(m_splats.get(), fx, fy, value);
+    if (m_settings.halves && (sample_index & 1u)) splat_into(m_odd_splats.get(), fx, fy, value);
+}
+
+void Film::splat_into(std::atomic<double>* splats, float fx, float fy, const Rgb& value) {
     if (m_filter.is_unit_box()) {
         // The splat belongs to the pixel that contains it.
         int x = static_cast<int>(std::floor(fx));
         int y = static_cast<int>(std::floor(fy));
         if (x < 0 || y < 0 || x >= m_width || y >= m_height) return;
         size_t i = (static_cast<size_t>(y) * m_width + x) * 3;
-        atomic_add(m_splats[i + 0], value.r);
-        atomic_add(m_splats[i + 1], value.g);
-        atomic_add(m_splats[i + 2], value.b);
+        atomic_add(splats[i + 0], value.r);
+        atomic_add(splats[i + 1], value.g);
+        atomic_add(splats[i + 2], value.b);
         // Read before writing: a store on every splat would bounce the flag's cache line
         // between the threads.
         if (!m_has_splats.load(std::memory_order_relaxed)) m_has_splats.store(true, std::memory_order_relaxed);
@@ -71,9 +104,9 @@ void Film::add_splat(float fx, float fy, const Rgb& value) {
             const float w = wy * m_filter.pdf(fx - (x + 0.5f));
             if (!(w > 0.0f)) continue;
             size_t i = (static_cast<size_t>(y) * m_width + x) * 3;
-            atomic_add(m_splats[i + 0], static_cast<double>(value.r) * w);
-            atomic_add(m_splats[i + 1], static_cast<double>(value.g) * w);
-            atomic_add(m_splats[i + 2], static_cast<double>(value.b) * w);
+            atomic_add(splats[i + 0], static_cast<double>(value.r) * w);
+            atomic_add(splats[i + 1], static_cast<double>(value.g) * w);
+            atomic_add(splats[i + 2], static_cast<double>(value.b) * w);
             any = true;
         }
     }
@@ -88,6 +121,12 @@ void Film::set_sample_plan(std::vector<uint32_t> plan, float target, int pilot_s
     for (size_t i = 0; i < m_pilot_splats.size(); ++i) {
         m_pilot_splats[i] = m_splats[i].load(std::memory_order_relaxed);
         m_splats[i].store(0.0, std::memory_order_relaxed);
+    }
+    if (!m_settings.halves) return;
+    m_odd_pilot_splats.resize(m_pixels.size() * 3);
+    for (size_t i = 0; i < m_odd_pilot_splats.size(); ++i) {
+        m_odd_pilot_splats[i] = m_odd_splats[i].load(std::memory_order_relaxed);
+        m_odd_splats[i].store(0.0, std::memory_order_relaxed);
     }
 }
 
@@ -158,15 +197,85 @@ Image Film::resolve(double splat_spp) const {
     return img;
 }
 
+FilmHalves Film::resolve_halves(double splat_spp) const {
+    FilmHalves out;
+    if (!m_settings.halves) return out;
+    const size_t n = m_pixels.size();
+    // The light paths of one half: those of the camera samples of its parity. Indices [b, e) of
+    // parity h number ceil((e - h) / 2) - ceil((b - h) / 2).
+    auto of_parity = [](uint64_t b, uint64_t e, int h) -> uint64_t {
+        auto upto = [h](uint64_t x) -> uint64_t { return x > static_cast<uint64_t>(h) ? (x - h + 1) / 2 : 0; };
+        return e > b ? upto(e) - upto(b) : 0;
+    };
+    const uint64_t spp = splat_spp > 0.0 ? static_cast<uint64_t>(splat_spp) : 0;
+    // As resolve(): per half, the splats over its paths per pixel; with a plan the pilot's and
+    // the later paths weighed apart with the same fixed alpha.
+    double scale[2] = {0, 0}, pilot_scale[2] = {0, 0};
+    for (int h = 0; h < 2; ++h) {
+        if (m_plan.empty()) {
+            const uint64_t paths = of_parity(0, spp, h);
+            scale[h] = paths ? 1.0 / static_cast<double>(paths) : 0.0;
+            continue;
+        }
+        const uint64_t pilot = static_cast<uint64_t>(m_plan_pilot_spp), pilot_h = of_parity(0, pilot, h);
+        const double alpha = spp ? std::min(1.0, static_cast<double>(pilot) / static_cast<double>(spp)) : 1.0;
+        double post = 0.0;
+        for (uint32_t budget : m_plan)
+            post += static_cast<double>(of_parity(pilot, std::min<uint64_t>(budget, spp), h));
+        if (pilot_h) pilot_scale[h] = post > 0.0 ? alpha / static_cast<double>(pilot_h) : 1.0 / static_cast<double>(pilot_h);
+        scale[h] = post > 0.0 ? (1.0 - alpha) * static_cast<double>(n) / post : 0.0;
+    }
+    out.even.resize(n * 3);
+    out.odd.resize(n * 3);
+    out.albedo.resize(n * 3);
+    out.normal.resize(n * 3);
+    out.position.resize(n * 3);
+    out.depth.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Pixel& p = m_pixels[i];
+        const HalfSums& o = m_odd[i];
+        const double even_weight = p.weight - o.weight;
+        for (int c = 0; c < 3; ++c) {
+            const double whole = p.weight > 0.0 ? p.sum[c] / p.weight : 0.0;
+            // A half without camera samples (one sample per pixel) takes the whole's mean.
+            const double odd_mean = o.weight > 0.0 ? o.sum[c] / o.weight : whole;
+            const double even_mean = even_weight > 0.0 ? (p.sum[c] - o.sum[c]) / even_weight : whole;
+            const double odd_splat = m_odd_splats[i * 3 + c].load(std::memory_order_relaxed);
+            const double even_splat = m_splats[i * 3 + c].load(std::memory_order_relaxed) - odd_splat;
+            double even = even_mean + even_splat * scale[0], odd = odd_mean + odd_splat * scale[1];
+            if (!m_pilot_splats.empty()) {
+                const double odd_pilot = m_odd_pilot_splats[i * 3 + c];
+                even += (m_pilot_splats[i * 3 + c] - odd_pilot) * pilot_scale[0];
+                odd += odd_pilot * pilot_scale[1];
+            }
+            out.even[i * 3 + c] = static_cast<float>(even);
+            out.odd[i * 3 + c] = static_cast<float>(odd);
+        }
+        // Albedo and normal averaged over every sample (a pixel half covered has half the
+        // albedo, as in the AOV passes); position and depth over the samples that hit.
+        const FeatureSums& f = m_features[i];
+        const double inv = p.weight > 0.0 ? 1.0 / p.weight : 0.0, inv_hits = f.hits > 0.0f ? 1.0 / f.hits : 0.0;
+        for (int c = 0; c < 3; ++c) {
+            out.albedo[i * 3 + c] = static_cast<float>(f.albedo[c] * inv);
+            out.normal[i * 3 + c] = static_cast<float>(f.normal[c] * inv);
+            out.position[i * 3 + c] = static_cast<float>(f.position[c] * inv_hits);
+        }
+        out.depth[i] = f.hits > 0.0f ? static_cast<float>(f.depth * inv_hits) : k_no_hit_depth;
+    }
+    return out;
+}
+
 namespace {
 constexpr size_t k_pixel_doubles = 7;  // sum[3], sum_sq[3], weight
 constexpr size_t k_aov_doubles = 8;    // normal[3], albedo[3], depth, count
+// odd sums[3] and weight, odd splats[3], features: albedo[3], normal[3], depth, hits, position[3]
+constexpr size_t k_half_doubles = 4 + 3 + 11;
 }  // namespace
 
 size_t Film::state_size(bool with_plan) const {
     size_t n = m_pixels.size();
     return n * k_pixel_doubles + m_aovs.size() * k_aov_doubles + m_alpha_hits.size() + n * 3 +
-           (with_plan ? 2 + n * 4 : 0);
+           (with_plan ? 2 + n * 4 : 0) + (m_settings.halves ? n * (k_half_doubles + (with_plan ? 3 : 0)) : 0);
 }
 
 void Film::save_state(double* out) const {
@@ -183,11 +292,50 @@ void Film::save_state(double* out) const {
     }
     for (double hits : m_alpha_hits) *out++ = hits;
     for (size_t i = 0; i < m_pixels.size() * 3; ++i) *out++ = m_splats[i].load(std::memory_order_relaxed);
-    if (m_plan.empty()) return;
-    *out++ = m_plan_target;
-    *out++ = m_plan_pilot_spp;
-    for (uint32_t budget : m_plan) *out++ = budget;
-    for (double v : m_pilot_splats) *out++ = v;
+    if (!m_plan.empty()) {
+        *out++ = m_plan_target;
+        *out++ = m_plan_pilot_spp;
+        for (uint32_t budget : m_plan) *out++ = budget;
+        for (double v : m_pilot_splats) *out++ = v;
+    }
+    save_halves(out, !m_plan.empty());
+}
+
+// The halves' state, after everything else: with_plan adds the odd pilot splats.
+void Film::save_halves(double* out, bool with_plan) const {
+    if (!m_settings.halves) return;
+    for (size_t i = 0; i < m_odd.size(); ++i) {
+        const HalfSums& o = m_odd[i];
+        const FeatureSums& f = m_features[i];
+        for (int c = 0; c < 3; ++c) *out++ = o.sum[c];
+        *out++ = o.weight;
+        for (int c = 0; c < 3; ++c) *out++ = m_odd_splats[i * 3 + c].load(std::memory_order_relaxed);
+        for (int c = 0; c < 3; ++c) *out++ = f.albedo[c];
+        for (int c = 0; c < 3; ++c) *out++ = f.normal[c];
+        *out++ = f.depth;
+        *out++ = f.hits;
+        for (int c = 0; c < 3; ++c) *out++ = f.position[c];
+    }
+    if (with_plan)
+        for (double v : m_odd_pilot_splats) *out++ = v;
+}
+
+void Film::load_halves(const double* in, bool with_plan) {
+    if (!m_settings.halves) return;
+    for (size_t i = 0; i < m_odd.size(); ++i) {
+        HalfSums& o = m_odd[i];
+        FeatureSums& f = m_features[i];
+        for (int c = 0; c < 3; ++c) o.sum[c] = *in++;
+        o.weight = *in++;
+        for (int c = 0; c < 3; ++c) m_odd_splats[i * 3 + c].store(*in++, std::memory_order_relaxed);
+        for (int c = 0; c < 3; ++c) f.albedo[c] = static_cast<float>(*in++);
+        for (int c = 0; c < 3; ++c) f.normal[c] = static_cast<float>(*in++);
+        f.depth = static_cast<float>(*in++);
+        f.hits = static_cast<float>(*in++);
+        for (int c = 0; c < 3; ++c) f.position[c] = *in++;
+    }
+    m_odd_pilot_splats.clear();
+    if (with_plan) m_odd_pilot_splats.assign(in, in + m_odd.size() * 3);
 }
 
 void Film::load_state(const double* in, size_t count) {
@@ -221,8 +369,10 @@ void Film::load_state(const double* in, size_t count) {
         m_plan.resize(m_pixels.size());
         for (uint32_t& budget : m_plan) budget = static_cast<uint32_t>(*in++);
         m_pilot_splats.assign(in, in + m_pixels.size() * 3);
+        in += m_pixels.size() * 3;
         for (double v : m_pilot_splats) any = any || v != 0.0;
     }
+    load_halves(in, with_plan);
     m_has_splats.store(any, std::memory_order_relaxed);
 }
 

@@ -32,6 +32,10 @@ struct Image {
     // 1 per pixel: the camera samples averaged into the pixel (fewer than spp where adaptive
     // sampling stopped it early, or where a non-finite sample was dropped).
     std::vector<float> sample_count;
+    // With denoising: the colour as rendered (3 per pixel) and the denoiser's features (albedo
+    // and normal 3 per pixel, depth 1; see DenoiseFeatures), Cycles' Denoising Data passes.
+    std::vector<float> noisy;
+    std::vector<float> denoising_albedo, denoising_normal, denoising_depth;
     float* pixel(int x, int y) { return &rgba[(static_cast<size_t>(y) * width + x) * 4]; }
     const float* pixel(int x, int y) const { return &rgba[(static_cast<size_t>(y) * width + x) * 4]; }
 };
@@ -44,6 +48,25 @@ struct PixelAovs {
     Rgb albedo;        // base colour (the denoiser's albedo guide)
 };
 
+// What a camera sample tells the denoiser (denoise/denoise.h) about the surface it sees: the first
+// hit, or where that is a mirror or smooth glass, the first surface seen through it
+// (first_hit_aovs.h). Escaped rays leave everything 0.
+struct DenoiseFeatures {
+    bool hit = false;
+    Vec3 position;  // world space
+    Vec3 normal;    // world-space unit shading normal, facing the ray
+    Rgb albedo;     // base colour, times the tint of the mirrors and glass on the way
+    float depth = 0;  // the first hit's, along the camera's forward axis (as PixelAovs::depth)
+};
+
+// The halves a film keeps for the denoiser: the image from even and from odd sample indices (3
+// floats per pixel each; independent estimates of the same image), and the features averaged
+// over all samples (3 floats per pixel; depth 1, k_no_hit_depth where no sample hit).
+struct FilmHalves {
+    std::vector<float> even, odd;
+    std::vector<float> albedo, normal, position, depth;
+};
+
 struct FilmSettings {
     FilterSettings filter;
     bool aovs = false;  // record depth, normal and albedo
@@ -51,6 +74,11 @@ struct FilmSettings {
     // ray hits scene geometry (alpha-tested surfaces let it through as they do in rendering),
     // from the same samples as the RGB. Without it alpha is 1.
     bool alpha = false;
+    // Keep what the denoiser needs: the odd sample indices' sums beside the whole (the even ones
+    // are the difference) and the denoising features (about 112 more bytes per pixel). Without
+    // it the film allocates and does nothing more; the whole image is the same bit for bit
+    // either way.
+    bool halves = false;
 };
 
 // Blender's "no hit" depth.
@@ -68,6 +96,7 @@ public:
     bool wants_alpha() const { return m_settings.alpha; }
     // Whether a camera sample needs its first hit traced (first_hit_aovs.h).
     bool wants_first_hit() const { return m_settings.aovs || m_settings.alpha; }
+    bool wants_halves() const { return m_settings.halves; }
 
     struct Position {
         float fx, fy;
@@ -81,7 +110,10 @@ public:
 
     // A camera sample's radiance for pixel (x, y), placed by sample_position(): weight 1 in this
     // pixel only. Only the thread rendering the tile that owns the pixel calls this.
-    void add_sample(int x, int y, const Rgb& radiance, const PixelAovs* aovs = nullptr) {
+    // `sample_index` says which half the sample belongs to and `features` are the denoiser's
+    // (both only used when the film keeps halves).
+    void add_sample(int x, int y, const Rgb& radiance, const PixelAovs* aovs = nullptr, uint32_t sample_index = 0,
+                    const DenoiseFeatures* features = nullptr) {
         const size_t i = static_cast<size_t>(y) * m_width + x;
         Pixel& p = m_pixels[i];
         p.sum[0] += radiance.r;
@@ -93,16 +125,21 @@ public:
         p.weight += 1.0;
         if (aovs && m_settings.aovs) add_aovs(i, *aovs);
         if (aovs && m_settings.alpha && aovs->hit) m_alpha_hits[i] += 1.0;
+        if (m_settings.halves) add_to_halves(i, radiance, sample_index, features);
     }
-    // A light-tracing contribution landing on the film at continuous position (fx, fy); any
-    // thread may call this.
-    void add_splat(float fx, float fy, const Rgb& value);
+    // A light-tracing contribution landing on the film at continuous position (fx, fy), from the
+    // light path traced for camera sample `sample_index` (its half); any thread may call this.
+    void add_splat(float fx, float fy, const Rgb& value, uint32_t sample_index = 0);
     bool has_splats() const { return m_has_splats.load(std::memory_order_relaxed); }
 
     // Pixel values: camera samples averaged, plus splats divided by `splat_spp` (the sample
     // index every unstopped pixel reached: one light path per camera sample); the passes the film
     // recorded. With a sample plan, splats are weighted as explained in film.cpp.
     Image resolve(double splat_spp) const;
+    // The two half images and the features (only when the film keeps halves; whole renders
+    // only: every unstopped pixel reached sample index `splat_spp`). Each half is resolved as
+    // resolve() does the whole, from its own samples and splats.
+    FilmHalves resolve_halves(double splat_spp) const;
 
     // What a pixel has accumulated (camera samples only).
     struct PixelSums {
@@ -160,6 +197,22 @@ private:
         double count = 0;
     };
     void add_aovs(size_t i, const PixelAovs& aovs);
+    struct HalfSums {
+        double sum[3] = {0, 0, 0};
+        double weight = 0;
+    };
+    // Summed over all samples; position in doubles (world coordinates far from the origin).
+    struct FeatureSums {
+        float albedo[3] = {0, 0, 0};
+        float normal[3] = {0, 0, 0};
+        float depth = 0;  // summed over the samples that hit
+        float hits = 0;
+        double position[3] = {0, 0, 0};
+    };
+    void add_to_halves(size_t i, const Rgb& radiance, uint32_t sample_index, const DenoiseFeatures* features);
+    void splat_into(std::atomic<double>* channel, float fx, float fy, const Rgb& value);
+    void save_halves(double* out, bool with_plan) const;
+    void load_halves(const double* in, bool with_plan);
 
     int m_width, m_height;
     FilmSettings m_settings;
@@ -168,6 +221,11 @@ private:
     std::vector<AovSums> m_aovs;                      // empty unless settings.aovs
     std::vector<double> m_alpha_hits;                 // per pixel, empty unless settings.alpha
     std::unique_ptr<std::atomic<double>[]> m_splats;  // 3 per pixel
+    // With halves: the odd sample indices' part of the sums and the splats, and the features.
+    std::vector<HalfSums> m_odd;
+    std::unique_ptr<std::atomic<double>[]> m_odd_splats;  // 3 per pixel
+    std::vector<double> m_odd_pilot_splats;               // 3 per pixel, with a plan
+    std::vector<FeatureSums> m_features;
     std::atomic<bool> m_has_splats{false};
     std::vector<uint32_t> m_plan;        // empty: no adaptive sampling
     std::vector<double> m_pilot_splats;  // 3 per pixel, with a plan

@@ -57,7 +57,9 @@ void PixelSampleIntegrator<Derived>::render_tile(const RenderScene& rs, const Ti
                     ++stats.nonfinite;  // dropped, never written
                     continue;
                 }
-                add_camera_sample(film, rs, camera, x, y, fx, fy, time, l);
+                // The denoiser's features pick a glass lobe with one more number of the sample.
+                const float u_lobe = film.wants_halves() ? rng.next_1d() : 0.5f;
+                add_camera_sample(film, rs, camera, x, y, fx, fy, time, l, s, u_lobe);
             }
         }
     }

@@ -12,6 +12,7 @@
 #include "core/available_memory.h"
 #include "core/content_hash.h"
 #include "scene/scene_content_error.h"
+#include "denoise/denoise.h"
 #include "film/film_checkpoint.h"
 
 namespace veach {
@@ -62,6 +63,10 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
                          + 4 * sizeof(float);                          // the encoded output
     if (options.film.aovs) per_pixel += 8 * sizeof(double) + 7 * sizeof(float);
     if (options.film.alpha) per_pixel += sizeof(double);
+    // The halves and features (film.h), and what the denoiser allocates with the halves resolved.
+    if (options.denoise)
+        per_pixel += (4 + 3 + 3) * sizeof(double) + 8 * sizeof(float) + (3 * 4 + 1) * sizeof(float) +
+                     denoise_scratch_bytes(1, 1);
     if (options.checkpoint.write)
         per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0) + (options.film.alpha ? 1 : 0)) * sizeof(double);
     const uint64_t film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
@@ -79,6 +84,34 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
 }
 
 }  // namespace
+
+void denoise_image(FilmHalves halves, Image* image, VarianceSource variance) {
+    const size_t n = static_cast<size_t>(image->width) * image->height;
+    std::vector<float> noisy(n * 3);
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) noisy[i * 3 + c] = image->rgba[i * 4 + c];
+    DenoiseInput in;
+    in.width = image->width;
+    in.height = image->height;
+    in.half_a = halves.even.data();
+    in.half_b = halves.odd.data();
+    in.full = noisy.data();
+    // A half holds half the samples: twice the variance of the whole image's pixel mean.
+    std::vector<float> half_variance(image->variance.size());
+    for (size_t i = 0; i < half_variance.size(); ++i) half_variance[i] = 2.0f * image->variance[i];
+    if (variance != VarianceSource::none && !half_variance.empty()) in.variance = half_variance.data();
+    in.variance_is_partial = variance == VarianceSource::partial;
+    in.albedo = halves.albedo.data();
+    in.normal = halves.normal.data();
+    in.position = halves.position.data();
+    const DenoiseResult r = denoise(in);
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) image->rgba[i * 4 + c] = r.rgb[i * 3 + c];  // alpha as rendered
+    image->noisy = std::move(noisy);
+    image->denoising_albedo = std::move(halves.albedo);
+    image->denoising_normal = std::move(halves.normal);
+    image->denoising_depth = std::move(halves.depth);
+}
 
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control,
                           PreparedSceneCache* prepared) {
@@ -100,6 +133,11 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
         throw std::invalid_argument("--samples cannot be combined with --noise or --time");
     if (part.has_bounds && options.render.noise_target != 0)
         throw std::invalid_argument("--pixelbounds cannot be combined with --noise");
+    // Part files hold no halves: the denoiser needs both, and a part is not an image.
+    if (options.denoise && (sample_range || part.has_bounds))
+        throw std::invalid_argument(
+            "--denoise cannot be combined with parts (--samples, --pixelbounds): part files do not carry the "
+            "half images the denoiser needs; denoise the merged image's render instead");
     // Part files hold no coverage: a merged transparent render would come back opaque.
     if ((sample_range || part.has_bounds) && (options.render.transparent || options.film.alpha))
         throw std::invalid_argument("a transparent film cannot be rendered in parts (--samples, --pixelbounds)");
@@ -124,7 +162,9 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     RenderScene rs(prepared ? prepared->get(scene) : std::make_shared<const PreparedScene>(scene), camera, width,
                    height);
     auto t1 = clock::now();
-    auto film_ptr = std::make_shared<Film>(width, height, options.film);
+    FilmSettings film_settings = options.film;
+    film_settings.halves = film_settings.halves || options.denoise;
+    auto film_ptr = std::make_shared<Film>(width, height, film_settings);
     Film& film = *film_ptr;
     RenderSettings settings = chosen;
     settings.spp = sample_end;
@@ -182,6 +222,16 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
                                  ? result.stats.spp_done
                                  : samples * static_cast<double>(info.area()) / (static_cast<double>(width) * height);
     result.image = film.resolve(splat_spp);
+    if (options.denoise) {
+        const auto t3 = clock::now();
+        // The variance pass is the camera samples': all of pt's noise, part of bdpt's (not its
+        // splats), none of lt's (its pixels hold no camera samples).
+        const VarianceSource variance = !film.has_splats()                      ? VarianceSource::whole
+                                        : integrator->pixels_hold_estimates() ? VarianceSource::partial
+                                                                              : VarianceSource::none;
+        denoise_image(film.resolve_halves(splat_spp), &result.image, variance);
+        result.denoise_seconds = std::chrono::duration<double>(clock::now() - t3).count();
+    }
     result.film = std::move(film_ptr);
     return result;
 }
@@ -191,6 +241,7 @@ uint64_t render_settings_hash(const RenderJobOptions& options, const std::string
     HashKey key("veach-render-v2");
     // Only when on, so that every opaque render keeps the identity it had before the option.
     if (r.transparent || options.film.alpha) key.field("transparent", 1);
+    if (options.denoise) key.field("denoise", 1);  // its checkpoints hold the halves
     // Another version may sample differently: its checkpoints and parts are another render.
     return key
         .field("version", VEACH_VERSION_STRING)

@@ -42,6 +42,10 @@ struct RenderJobOptions {
     CheckpointSettings checkpoint;
     PartSettings part;
     double frame = 0;  // the animation frame, for part files' identity
+    // Denoise the image (denoise/denoise.h): the film keeps its halves and features, and the
+    // result's image is the denoised one, the rendered one kept as its `noisy` pass. Whole
+    // renders only (part files carry no halves).
+    bool denoise = false;
 };
 
 struct RenderResult {
@@ -52,6 +56,7 @@ struct RenderResult {
     double render_seconds = 0;
     size_t triangles = 0;
     int resumed_spp = 0;                // samples per pixel loaded from a checkpoint
+    double denoise_seconds = 0;         // denoising, after the render (0 without it)
     std::string integrator;             // the integrator that rendered (see render_scene)
     std::vector<std::string> warnings;  // said once each, for the front end to print
     std::shared_ptr<const Film> film;   // the sums behind `image` (what a part file holds)
@@ -76,6 +81,12 @@ uint64_t checkpoint_key(const RenderJobOptions& options, const std::string& came
 // frames update them instead of building them again.
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control = {},
                           PreparedSceneCache* prepared = nullptr);
+
+// Replaces image's colour by the denoised one (alpha as it was), keeping the rendered colour as
+// its `noisy` pass and the features as its denoising passes. `variance`: how much of the
+// image's noise its variance pass (the camera samples') measures.
+enum class VarianceSource { whole, partial, none };
+void denoise_image(FilmHalves halves, Image* image, VarianceSource variance = VarianceSource::whole);
 
 // Peak resident set size of this process in bytes (from /proc), 0 if unknown.
 size_t peak_resident_bytes();

@@ -133,6 +133,11 @@ const PassLayout k_pass_layouts[] = {
     {"combined", "Combined", "RGBA", &Image::rgba, 4},    {"depth", "Depth", "Z", &Image::depth, 1},
     {"normal", "Normal", "XYZ", &Image::normal, 3},       {"albedo", "Albedo", "RGB", &Image::albedo, 3},
     {"variance", "Variance", "RGB", &Image::variance, 3},
+    // With --denoise: the image before denoising, and the denoiser's features (Cycles' names).
+    {"noisy", "Noisy", "RGB", &Image::noisy, 3},
+    {"denoising_normal", "Denoising Normal", "XYZ", &Image::denoising_normal, 3},
+    {"denoising_albedo", "Denoising Albedo", "RGB", &Image::denoising_albedo, 3},
+    {"denoising_depth", "Denoising Depth", "Z", &Image::denoising_depth, 1},
 };
 
 // The view layer Blender names its passes under by default.
@@ -160,7 +165,8 @@ void encode_multilayer(Encoded& enc, const Image& image, const std::string& path
             names.push_back(std::string(k_view_layer) + "." + l->layer + "." + *c);
             // Half floats keep 3 significant digits: fine for colour, not for depth, which
             // stays float as Blender writes it.
-            formats.push_back(l->layer == std::string("Depth") ? image_io::SampleType::float32 : colour_type);
+            const bool depth = l->stride == 1;  // Depth, Denoising Depth
+            formats.push_back(depth ? image_io::SampleType::float32 : colour_type);
         }
     }
     const int channels = static_cast<int>(names.size());
@@ -335,6 +341,8 @@ const std::vector<std::string>& known_passes() {
 }
 
 bool pass_needs_aovs(const std::string& pass) { return pass == "depth" || pass == "normal" || pass == "albedo"; }
+
+bool pass_needs_denoise(const std::string& pass) { return pass == "noisy" || pass.rfind("denoising_", 0) == 0; }
 
 bool is_scene_linear_format(const std::string& path) {
     FormatInfo info;

@@ -28,7 +28,9 @@ struct OutputSettings {
     // EXR render passes, in Blender's names: "combined", "depth", "normal", "albedo",
     // "variance". Empty: a plain RGBA file. Otherwise a multi-layer EXR with channels
     // ViewLayer.Combined.R/G/B/A, ViewLayer.Depth.Z, ViewLayer.Normal.X/Y/Z,
-    // ViewLayer.Albedo.R/G/B, ViewLayer.Variance.R/G/B. Other formats write Combined only.
+    // ViewLayer.Albedo.R/G/B, ViewLayer.Variance.R/G/B; with denoising also "noisy",
+    // "denoising_normal", "denoising_albedo", "denoising_depth" (ViewLayer.Noisy.R/G/B,
+    // ViewLayer.Denoising Normal.X/Y/Z, ...). Other formats write Combined only.
     std::vector<std::string> passes;
     int quality = 95;                             // JPEG
     int bits = 8;                                 // PNG/TIFF: 8 or 16
@@ -49,6 +51,8 @@ const std::vector<std::string>& exr_codec_names();
 const std::vector<std::string>& known_passes();
 // True when a pass needs the film's first-hit AOVs (depth, normal, albedo).
 bool pass_needs_aovs(const std::string& pass);
+// True for the passes only a denoised render has (noisy, denoising_normal/albedo/depth).
+bool pass_needs_denoise(const std::string& pass);
 
 // Throws OutputError with a one-line message naming the file on failure; never leaves a partial
 // file under `path`.

@@ -198,7 +198,10 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           not with noise or time_limit), transparent (since 0.5: 1 is Cycles' Film >
  *           Transparent: camera rays that escape see no environment, which still lights the
  *           scene, and the combined pass's alpha is the fraction of the pixel's camera samples
- *           that hit geometry; not with sample_begin/sample_end or pixelbounds)
+ *           that hit geometry; not with sample_begin/sample_end or pixelbounds), denoise (since 0.7: 1 denoises the
+ *           combined pass after the render, a feature-guided regression on two half images of
+ *           the render (README "Denoising"), biased; the rendered image stays as the pass "noisy";
+ *           not with sample_begin/sample_end or pixelbounds)
  *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1; Blender's default is
  *           1.5 for its smooth filters), exposure (stops), gamma,
  *           noise (adaptive sampling: a pixel stops once its estimated relative error is below
@@ -211,7 +214,9 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           exr_codec (none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab; "zip:N" and
  *           "dwaa:N" set a level), passes (EXR: "" for plain RGBA, else a comma-separated list
  *           from combined, depth, normal, albedo, variance written as a multi-layer EXR with
- *           Blender's names; depth, normal and albedo turn aovs on), checkpoint (a file holding
+ *           Blender's names; depth, normal and albedo turn aovs on; with denoise = 1 also noisy,
+ *           denoising_normal, denoising_albedo, denoising_depth, which without it fail the render
+ *           with VEACH_ERROR_INVALID_ARGUMENT), checkpoint (a file holding
  *           the film's state between passes, so that a killed render resumes to the same image;
  *           a checkpoint of another render or scene is refused with VEACH_ERROR_BAD_INPUT; not
  *           deleted by the library: remove it once the image is safe), pixelbounds (since 0.4:
@@ -222,7 +227,7 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *   cancelled before the requested samples), result_camera_samples, result_rays,
  *   result_nonfinite_samples (dropped), result_threads (since 0.6: the worker threads the
  *   render ran on); float progress, eta_seconds, render_seconds,
- *   build_seconds; string result_camera, result_integrator (the one that rendered),
+ *   build_seconds, denoise_seconds (since 0.7: 0 without denoise); string result_camera, result_integrator (the one that rendered),
  *   result_warnings. Every option can be read back too. */
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value);
 VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value);
@@ -262,7 +267,10 @@ VEACH_API void veachCancelRender(VeachRender render);
  * (z, z, z, 1: camera-space Z of the first hit, 1e10 where nothing was hit, as Blender's Z pass),
  * "normal" and "albedo" (x, y, z, 1); always "variance" (of each channel's pixel mean: r, g, b, 1)
  * and "samples" (since 0.3: the camera samples averaged into the pixel, n, n, n, 1: fewer than spp
- * where adaptive sampling stopped the pixel early or a non-finite sample was dropped). */
+ * where adaptive sampling stopped the pixel early or a non-finite sample was dropped); with
+ * denoise = 1 (since 0.7) "noisy" (the combined colour before denoising, alpha 1) and the
+ * denoiser's features "denoising_normal", "denoising_albedo" (x, y, z, 1: of the first surface
+ * seen, through mirrors and smooth glass) and "denoising_depth" (z, z, z, 1: the first hit's). */
 VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t dst_bytes,
                                   size_t row_stride_bytes);
 /* Writes the combined pass (and for EXR the `passes` option's layers) through the output driver:

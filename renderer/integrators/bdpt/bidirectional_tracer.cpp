@@ -526,7 +526,7 @@ Rgb Tracer::sample(Workspace& ws, const CameraModel& camera, float fx, float fy,
                 }
                 c = c * weight;
                 if (c.is_finite())
-                    film.add_splat(px, py, c);
+                    film.add_splat(px, py, c, rng.sample_index());
                 else
                     ++m_stats.nonfinite;
             } else if (s == 1) {
