@@ -43,6 +43,14 @@ PASSES = [
     ("Sample Count", 1, "X", "VALUE", "samples", lambda layer: layer.veach.use_pass_sample_count),
 ]
 AOV_PASSES = {"depth", "normal", "albedo"}  # the library records these only with aovs = 1
+# When denoising, Denoising Data is the denoiser's own guides (of the first surface seen, through
+# mirrors and smooth glass), with Cycles' Denoising Depth and Noisy Image beside them.
+DENOISING_SOURCES = {"Denoising Albedo": "denoising_albedo", "Denoising Normal": "denoising_normal"}
+DENOISING_EXTRA = [
+    ("Noisy Image", 4, "RGBA", "COLOR", "noisy", lambda layer: layer.veach.use_pass_denoising_data),
+    ("Denoising Depth", 1, "Z", "VALUE", "denoising_depth", lambda layer: layer.veach.use_pass_denoising_data),
+]
+NORMAL_PASSES = {"normal", "denoising_normal"}  # glTF's Y up, turned back to Blender's Z up
 
 # The library's scene warnings that repeat, once per light, what the export reported once for the
 # kind: (export warning kind, text of the library's line).
@@ -56,8 +64,11 @@ def library_warnings(text, export):
             if not any(kind in export.warnings and words in line for kind, words in REPORTED_BY_EXPORT)]
 
 
-def enabled_passes(view_layer):
-    return [p for p in PASSES if p[5](view_layer)]
+def enabled_passes(view_layer, denoise=False):
+    passes = PASSES
+    if denoise:
+        passes = [(p[0], p[1], p[2], p[3], DENOISING_SOURCES.get(p[0], p[4]), p[5]) for p in PASSES] + DENOISING_EXTRA
+    return [p for p in passes if p[5](view_layer)]
 
 
 def progress_line(integrator, fraction, eta):
@@ -74,7 +85,7 @@ class VeachRenderEngine(bpy.types.RenderEngine):
     bl_use_postprocess = True
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        for name, channels, ids, kind, _, _ in enabled_passes(renderlayer):
+        for name, channels, ids, kind, _, _ in enabled_passes(renderlayer, render_settings.denoising(scene)):
             self.register_pass(scene, renderlayer, name, channels, ids, kind)
 
     def render(self, depsgraph):
@@ -141,7 +152,7 @@ class VeachRenderEngine(bpy.types.RenderEngine):
             job.set("threads", render_threads(scene))
             if export.camera_name and export.camera_name in job.camera_names():
                 job.set("camera", export.camera_name)
-            passes = enabled_passes(view_layer)
+            passes = enabled_passes(view_layer, bool(options["denoise"]))
             job.set("aovs", 1 if any(p[4] in AOV_PASSES for p in passes) else 0)
 
             job.start()
@@ -181,7 +192,7 @@ class VeachRenderEngine(bpy.types.RenderEngine):
             for name, channels, _, _, source, _ in passes:
                 if name in layer.passes:
                     pixels = read_pass(job, source, w, h)[y:y + rh, x:x + rw]
-                    if source == "normal":  # the library's world is glTF's (Y up), Blender's is Z up
+                    if source in NORMAL_PASSES:  # the library's world is glTF's (Y up), Blender's is Z up
                         pixels = np.stack([pixels[..., 0], -pixels[..., 2], pixels[..., 1], pixels[..., 3]], axis=-1)
                     rows = np.ascontiguousarray(pixels[::-1]).reshape(-1, 4)
                     layer.passes[name].rect = rows[:, :channels]
@@ -250,9 +261,12 @@ class VEACH_PT_settings(VeachPanel, bpy.types.Panel):
         layout.prop(settings, "use_cycles_settings")
         column = layout.column()
         column.active = not render_settings.uses_cycles(context.scene)
-        for name in ("samples", "time_limit", "noise_threshold", "max_depth", "seed", "use_animated_seed",
-                     "filter_type"):
+        for name in ("samples", "time_limit", "noise_threshold", "use_denoising", "max_depth", "seed",
+                     "use_animated_seed", "filter_type"):
             column.prop(settings, name)
+        if render_settings.uses_cycles(context.scene):
+            # Cycles' own Render > Sampling > Denoise switch, which its settings bring along.
+            layout.prop(context.scene.cycles, "use_denoising", text="Denoise")
         column.prop(context.scene.render, "filter_size")
         layout.prop(context.scene.render, "film_transparent")
 

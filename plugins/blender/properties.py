@@ -19,7 +19,7 @@ FILTERS = [
 class VeachSceneSettings(bpy.types.PropertyGroup):
     use_cycles_settings: BoolProperty(
         name="Use Cycles Settings", default=True,
-        description="Take samples, time limit, noise threshold, seed (and animated seed), max bounces and "
+        description="Take samples, time limit, noise threshold, denoise, seed (and animated seed), max bounces and "
                     "pixel filter from the scene's Cycles settings, so that a .blend set up for Cycles renders "
                     "with what it asks for; off: the Veach settings below")
     samples: IntProperty(name="Samples", description="Samples per pixel", default=64, min=1, soft_max=4096)
@@ -29,6 +29,10 @@ class VeachSceneSettings(bpy.types.PropertyGroup):
         name="Noise Threshold", default=0.0, min=0.0, soft_max=0.1, precision=4,
         description="Adaptive sampling: a pixel stops once its estimated relative error is below this (0: off, "
                     "every pixel gets the samples)")
+    use_denoising: BoolProperty(
+        name="Denoise", default=False,
+        description="Denoise the render with Veach's own denoiser (feature-guided regression; biased, its "
+                    "error vanishing as samples grow); the noisy image is the Noisy Image pass of Denoising Data")
     integrator: EnumProperty(name="Integrator", items=INTEGRATORS, default="bdpt")
     max_depth: IntProperty(name="Max Bounces", description="Maximum scattering events on a path",
                            default=64, min=0, soft_max=256)
@@ -47,7 +51,9 @@ class VeachViewLayerSettings(bpy.types.PropertyGroup):
     """Passes beyond Blender's own Depth (Z) and Normal switches of the view layer."""
     use_pass_denoising_data: BoolProperty(name="Denoising Data", default=False,
                                           description="Denoising Albedo and Denoising Normal (first-hit albedo "
-                                                      "and normal), for the compositor's Denoise node")
+                                                      "and normal, for the compositor's Denoise node); when "
+                                                      "denoising, the denoiser's own (seen through mirrors and "
+                                                      "smooth glass), Denoising Depth and the Noisy Image")
     use_pass_variance: BoolProperty(name="Variance", default=False,
                                     description="Variance of each pixel's mean, per channel")
     use_pass_sample_count: BoolProperty(name="Sample Count", default=False,

@@ -1,8 +1,8 @@
 # Which of Blender's render settings become which libveach render options.
 #
 # With "Use Cycles Settings" (the default) a .blend set up for Cycles renders with what it asks
-# for: Cycles' samples, time limit, adaptive noise threshold, seed and animated seed, Light
-# Paths' max bounces and Film's pixel filter. Otherwise the Veach panel's own settings apply.
+# for: Cycles' samples, time limit, adaptive noise threshold, denoise, seed and animated seed,
+# Light Paths' max bounces and Film's pixel filter. Otherwise the Veach panel's own settings apply.
 # Either way the resolution, percentage, render region (border, crop) and Film > Transparent
 # are Blender's own.
 FILTERS = {"BOX": "box", "GAUSSIAN": "gaussian", "BLACKMAN_HARRIS": "blackman-harris"}
@@ -45,12 +45,21 @@ def render_options(scene):
             "filter_width": float(scene.render.filter_size),
         }
         seed, animated = own.seed, own.use_animated_seed
+    options["denoise"] = 1 if denoising(scene) else 0
     options["seed"] = frame_seed(seed, scene.frame_current) if animated else seed
     options["integrator"] = own.integrator
     # Film > Transparent: the library leaves the background out of camera rays (it still lights
     # the scene) and puts the coverage in the Combined pass's alpha, premultiplied as Cycles'.
     options["transparent"] = 1 if scene.render.film_transparent else 0
     return options
+
+
+def denoising(scene):
+    """Render Properties > Sampling > Denoise: Cycles' own switch (scene.cycles.use_denoising, on in
+    a new file as in Cycles) with Use Cycles Settings, else the Veach panel's (off by default)."""
+    if uses_cycles(scene):
+        return bool(scene.cycles.use_denoising)
+    return bool(scene.veach.use_denoising)
 
 
 def full_size(scene):

@@ -6,7 +6,11 @@ rendered by another with
   blender -b passes.blend --addons veach -E VEACH -o //out_# -F OPEN_EXR_MULTILAYER -f 1
 Checks, in the multi-layer EXR Blender writes:
 - the passes carry Blender's names: Combined, Depth, Normal, Denoising Albedo, Denoising Normal,
-  Variance, Sample Count;
+  Variance, Sample Count, and, since Render > Sampling > Denoise is on (Cycles' default, taken with
+  Use Cycles Settings), Denoising Depth and Noisy Image;
+- Denoise denoised: on the floor the Combined pass is smoother than the Noisy Image (the mean
+  squared step between neighbouring pixels at least 4 times lower), and its mean is within 2% of
+  the noisy one's;
 - Sample Count is the 16 samples the .blend's (Cycles) settings ask for, in every pixel;
 - on the floor the Normal passes are Blender's world up (0, 0, 1) (Z up, not glTF's Y up), the
   albedo is the floor's base colour and the depth is finite; the variance is finite and >= 0;
@@ -27,7 +31,8 @@ import OpenImageIO as oiio
 from blender_harness import find_blender, install_addon, run_or_exit
 
 PASSES = {"Combined": "RGBA", "Depth": "Z", "Normal": "XYZ", "Denoising Albedo": "RGB",
-          "Denoising Normal": "XYZ", "Variance": "RGB", "Sample Count": "X"}
+          "Denoising Normal": "XYZ", "Variance": "RGB", "Sample Count": "X", "Denoising Depth": "Z",
+          "Noisy Image": "RGBA"}
 
 
 def main():
@@ -98,6 +103,21 @@ def main():
         combined = get("Combined", "RGB")
         if not combined.mean() > 0.01:
             failures.append("the Combined pass is black")
+        noisy = get("Noisy Image", "RGB")
+
+        def roughness(x):
+            return float((np.diff(x, axis=1) ** 2).mean() + (np.diff(x, axis=0) ** 2).mean())
+
+        smooth, rough = roughness(combined[floor]), roughness(noisy[floor])
+        print(f"Combined: mean {combined.mean():.4f}, roughness on the floor {smooth:.3g}; "
+              f"Noisy Image: mean {noisy.mean():.4f}, roughness on the floor {rough:.3g}")
+        if not smooth * 4 < rough:
+            failures.append("Denoise did not denoise: the Combined pass is as rough as the Noisy Image")
+        if abs(combined.mean() / noisy.mean() - 1) > 0.02:
+            failures.append(f"the denoised mean {combined.mean()} is not within 2% of the noisy {noisy.mean()}")
+        depth = get("Denoising Depth", "Z")[floor]
+        if not (np.isfinite(depth) & (depth > 0) & (depth < 100)).all():
+            failures.append(f"Denoising Depth on the floor is not a distance: {depth.min()} .. {depth.max()}")
         if failures:
             sys.exit("FAIL:\n  " + "\n  ".join(failures))
         print("PASS: Blender's passes and one warning per dropped kind")
