@@ -11,6 +11,7 @@ pixel boundaries):
 - --frame 0: 0.5; --frame 12 (t = 12/24 = 0.5): 0.25; --frame 24 (t = 1): 0, the quad out of
   view; --frame 6 --fps 12 (t = 0.5): 0.25; --frame 48 (past the last key): 0;
 - --animation idle --frame 24: 0.5; --animation 0 --frame 24 (index of "slide"): 0;
+  --animation all --frame 24 (the default, spelled out: both play): 0;
 - the frame is part of a render's identity: part files (--samples) of two frames refuse to merge,
   two parts of one frame merge;
 - an empty shutter (--shutter 0,0) renders bit for bit what no --shutter renders;
@@ -104,7 +105,8 @@ def main():
         cases = [("static", [], 0.5), ("frame0", ["--frame", "0"], 0.5), ("frame12", ["--frame", "12"], 0.25),
                  ("frame24", ["--frame", "24"], 0.0), ("fps12", ["--frame", "6", "--fps", "12"], 0.25),
                  ("frame48", ["--frame", "48"], 0.0), ("idle", ["--animation", "idle", "--frame", "24"], 0.5),
-                 ("index0", ["--animation", "0", "--frame", "24"], 0.0)]
+                 ("index0", ["--animation", "0", "--frame", "24"], 0.0),
+                 ("all", ["--animation", "all", "--frame", "24"], 0.0)]
         for name, flags, want in cases:
             mean = render(name, *flags)
             if mean is not None:

@@ -7,7 +7,7 @@ extensionsUsed, whose warning the import prints once per load. What must hold:
 - --frames 0-24:12 -o seq_####.exr writes seq_0000, seq_0012 and seq_0024 with means 0.5, 0.25
   and 0, and the import's warning is printed once: one load for the three frames;
 - {frame} patterns work too (-o f_{frame}.exr --frames 3-5: f_3, f_4, f_5), and so do
-  --stats-json patterns (one file per frame);
+  --stats-json patterns (one file per frame); {stem} with #### (-o {stem}_##.exr: slide_00, slide_01);
 - several frames with an output (or --stats-json) that is not a pattern, --frame with --frames,
   a range that runs backwards and a step of 0 are usage errors: exit 1, one line, nothing written;
 - --skip-existing skips the frames whose outputs are complete and renders the others;
@@ -78,6 +78,12 @@ def main():
         for frame in (3, 4, 5):
             check(os.path.exists(os.path.join(tmp, f"f_{frame}.exr")), f"f_{frame}.exr not written")
             check(os.path.exists(os.path.join(tmp, f"s_{frame}.json")), f"s_{frame}.json not written")
+
+        # {stem} (the scene's name) with a frame pattern.
+        proc = run("-o", os.path.join(tmp, "{stem}_##.exr"), "--frames", "0-1")
+        check(proc.returncode == 0, f"-o {{stem}}_##.exr: exit {proc.returncode}: {proc.stderr.strip()}")
+        for frame in (0, 1):
+            check(os.path.exists(os.path.join(tmp, "slide_%02d.exr" % frame)), f"slide_{frame:02d}.exr not written")
 
         refusals = [(["-o", os.path.join(tmp, "plain.exr"), "--frames", "1-2"], "several frames need an output pattern"),
                     (["-o", os.path.join(tmp, "p_#.exr"), "--frames", "1-2", "--stats-json",

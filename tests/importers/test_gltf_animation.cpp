@@ -438,6 +438,119 @@ TEST(GltfAnimation, TexcoordAndColorDeltasFollowTheWeights) {
 }
 
 // --------------------------------------------------------------------------------------------
+// Tangents, the weights channel's samplers, normalised byte skin weights
+
+// A normal-mapped material 0 (so the import keeps TANGENT) and `uvs` texture coordinates on
+// primitive 0 of mesh 0.
+void normal_mapped(GltfBuilder& b, size_t vertices) {
+    json& prim = b.doc["meshes"][0]["primitives"][0];
+    prim["attributes"]["TEXCOORD_0"] = b.accessor(std::vector<float>(2 * vertices, 0.0f), k_float, "VEC2");
+    prim["material"] = 0;
+    b.push("materials", {{"normalTexture", {{"index", 0}}}});
+    b.push("images", {{"uri", std::string("data:image/png;base64,") + k_png_2x2}});
+    b.push("textures", {{"source", 0}});
+}
+
+TEST(GltfAnimation, TangentDeltasAddAndSkinnedTangentsTurnWithTheirJoints) {
+    // Morph: tangents +X, a TANGENT target of +Z at weight 1: (1, 0, 1), renormalised (glTF
+    // 3.7.2.2: the delta is added to the xyz, the handedness w stays).
+    GltfBuilder m = morph_grid(json::array({1.0}));
+    m.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] =
+        m.accessor(std::vector<float>{1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1, 1, 0,
+                                      0, -1, 1, 0, 0, -1, 1, 0, 0, -1},
+                   k_float, "VEC4");
+    std::vector<float> dt;
+    for (int v = 0; v < 9; ++v) dt.insert(dt.end(), {0, 0, 1});
+    m.doc["meshes"][0]["primitives"][0]["targets"][0]["TANGENT"] = m.accessor(dt, k_float, "VEC3");
+    normal_mapped(m, 9);
+    Scene ms = posed(m, 0.0);
+    const Mesh& grid = ms.meshes[ms.instances[0].mesh];
+    ASSERT_EQ(grid.tangents.size(), 9u);
+    for (size_t v = 0; v < 9; ++v) {
+        expect_vec3(grid.tangents[v], k_h, 0, k_h);
+        EXPECT_EQ(grid.tangent_signs[v], -1.0f);
+    }
+    // Skin: the tube's tangents run along +Y; bent by 90 degrees about +Z at the joint, the top
+    // rings' turn to -X, the joint ring's are the average of the two matrices applied, (-1, 1, 0)
+    // renormalised, the bottom rings' stay.
+    GltfBuilder b = bent_tube(json::object());
+    std::vector<float> t;
+    for (int v = 0; v < 20; ++v) t.insert(t.end(), {0, 1, 0, 1});
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = b.accessor(t, k_float, "VEC4");
+    normal_mapped(b, 20);
+    Scene s = posed(b, 1.0);
+    const Mesh& tube = s.meshes[0];
+    ASSERT_EQ(tube.tangents.size(), 20u);
+    for (int c = 0; c < 4; ++c) {
+        expect_vec3(tube.tangents[size_t(0 * 4 + c)], 0, 1, 0);
+        expect_vec3(tube.tangents[size_t(1 * 4 + c)], 0, 1, 0);
+        expect_vec3(tube.tangents[size_t(2 * 4 + c)], -k_h, k_h, 0);
+        expect_vec3(tube.tangents[size_t(3 * 4 + c)], -1, 0, 0);
+        expect_vec3(tube.tangents[size_t(4 * 4 + c)], -1, 0, 0);
+    }
+}
+
+// morph_grid with a second target lifting every vertex by 10; weights (w0, w1) put vertex
+// (i, j) at height w0 i j + 10 w1 with the normal (w0, 1, 0) renormalised.
+void expect_two_target_grid_at(const Scene& s, float w0, float w1) {
+    const Mesh& m = s.meshes[s.instances[0].mesh];
+    ASSERT_EQ(m.positions.size(), 9u);
+    Vec3 n = normalize(Vec3(w0, 1, 0));
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+            expect_vec3(m.positions[size_t(j * 3 + i)], float(i), w0 * float(i * j) + 10 * w1, float(j));
+            expect_vec3(m.normals[size_t(j * 3 + i)], n.x, n.y, n.z);
+        }
+}
+
+GltfBuilder two_target_grid() {
+    GltfBuilder b = morph_grid(json::array({0.0, 0.0}));
+    std::vector<float> lift;
+    for (int v = 0; v < 9; ++v) lift.insert(lift.end(), {0, 10, 0});
+    b.doc["meshes"][0]["primitives"][0]["targets"].push_back({{"POSITION", b.accessor(lift, k_float, "VEC3")}});
+    return b;
+}
+
+TEST(GltfAnimation, WeightsChannelStepsAndFollowsTheCubicSplineTargetByTarget) {
+    // STEP: each key's weights held until the next key.
+    GltfBuilder step = two_target_grid();
+    animate(step, 0, "weights", {0, 1}, {0, 0, 1, 0.5f}, "SCALAR", "STEP");
+    expect_two_target_grid_at(posed(step, 0.99), 0, 0);
+    expect_two_target_grid_at(posed(step, 1.0), 1, 0.5f);
+    // CUBICSPLINE (glTF 3.11.2: per key, the in-tangents of every target, then the values, then
+    // the out-tangents): keys at t = 0 and 2, target 0 (a, v, b) = (0, 0, 1) then (0, 1, 0),
+    // target 1 (0, 0, 0) then (-0.4, 0.2, 0). At t = 1 (u = 0.5, td = 2) the spec's Hermite
+    // p = 0.5 v0 + 0.25 b0 + 0.5 v1 - 0.25 a1 gives w0 = 0.75 and w1 = 0.2; reading the values
+    // target-major (a, v, b of target 0, then of target 1) would give other weights.
+    GltfBuilder cubic = two_target_grid();
+    animate(cubic, 0, "weights", {0, 2}, {0, 0, 0, 0, 1, 0, 0, -0.4f, 1, 0.2f, 0, 0}, "SCALAR", "CUBICSPLINE");
+    expect_two_target_grid_at(posed(cubic, 1.0), 0.75f, 0.2f);
+    expect_two_target_grid_at(posed(cubic, 2.0), 1, 0.2f);
+}
+
+TEST(GltfAnimation, NormalisedUnsignedByteWeightsDecodeAsFractionsOf255) {
+    // WEIGHTS_0 as normalised unsigned bytes: (255, 0) below the joint, (0, 255) above, and
+    // (128, 127) on the joint ring: 128/255 of the rest pose and 127/255 of the turned one.
+    GltfBuilder b = bent_tube(json::object());
+    std::vector<uint8_t> w;
+    for (int ring = 0; ring < 5; ++ring)
+        for (int c = 0; c < 4; ++c)
+            w.insert(w.end(), {uint8_t(ring < 2 ? 255 : ring == 2 ? 128 : 0), uint8_t(ring < 2 ? 0 : ring == 2 ? 127 : 255),
+                               0, 0});
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = b.accessor(w, k_ubyte, "VEC4", true);
+    Scene s = posed(b, 1.0);
+    const Mesh& m = s.meshes[0];
+    for (int ring = 0; ring < 5; ++ring)
+        for (int c = 0; c < 4; ++c) {
+            float x = k_corner[c][0], y = k_ring_y[ring], z = k_corner[c][1];
+            Vec3 want = ring == 2 ? Vec3(x, y, z) * (128.0f / 255.0f) + Vec3(-(y - 1), 1 + x, z) * (127.0f / 255.0f)
+                                  : bent(ring, c);
+            expect_vec3(m.positions[size_t(ring * 4 + c)], want.x, want.y, want.z);
+        }
+    EXPECT_EQ(count_warnings(s, "do not sum to 1"), 0u);
+}
+
+// --------------------------------------------------------------------------------------------
 // KHR_animation_pointer
 
 // One animation of one pointer channel: keys `times`, values `values` of `type`.
