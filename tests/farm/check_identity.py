@@ -7,7 +7,8 @@ What must hold:
   made through one path resumes through the other (veach:resumed_spp in the image), and parts
   rendered from the two copies merge.
 - An edited texture or buffer (one byte) is another render: the checkpoint is refused and the
-  parts do not merge (exit 2, one line).
+  parts do not merge (exit 2, one line). The environment map (--env) likewise: one map through
+  two paths merges, a map with one texel changed does not.
 - A checkpoint of the right length made of NaN bytes, or a real one with one flipped byte, is
   refused with exit 2 and one line, and no image is written.
 - The version of veach is part of the identity: a checkpoint or a part that another version made
@@ -27,9 +28,9 @@ import time
 import zlib
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from check_report import FAILURES, check, import_oiio  # noqa: E402
+from check_report import FAILURES, check, import_numpy_oiio  # noqa: E402
 
-oiio = import_oiio()
+np, oiio = import_numpy_oiio()
 
 FLAGS = ["--width", "48", "--height", "48", "--integrator", "pt", "--threads", "1"]
 
@@ -180,6 +181,29 @@ def main():
         check(r.returncode == 0, f"parts through two paths: merge exit {r.returncode} ({r.stderr.strip()})")
         r = run(veach, "merge", parts["a"], parts["edited_png"], "-o", os.path.join(tmp, "m2.exr"))
         one_line_exit2(r, "parts of an edited texture")
+
+        # The environment map (--env) is an input file like the others: the same map through two
+        # paths merges, a map with one texel changed does not.
+        maps = {c: os.path.join(copies[c], "sky.exr") for c in ("a", "b", "edited_png")}
+        texels = np.full((4, 8, 3), 0.5, dtype=np.float32)
+        texels[1, 2] = (2.0, 1.5, 1.0)
+        for c, path in maps.items():
+            if c == "edited_png":
+                texels[3, 5, 1] = 0.75
+            out_map = oiio.ImageOutput.create(path)
+            check(out_map and out_map.open(path, oiio.ImageSpec(8, 4, 3, oiio.FLOAT)) and out_map.write_image(texels),
+                  f"cannot write {path}")
+            out_map.close()
+        env_parts = {}
+        for c, samples in (("a", "0:8"), ("b", "8:16"), ("edited_png", "8:16")):
+            env_parts[c] = os.path.join(tmp, f"env_{c}.vpart")
+            r = run(veach, "render", scene["a"], "-o", env_parts[c], *FLAGS, "--spp", "16", "--samples", samples,
+                    "--env", maps[c], "-q")
+            check(r.returncode == 0, f"part with the map of {c}: exit {r.returncode} ({r.stderr.strip()})")
+        r = run(veach, "merge", env_parts["a"], env_parts["b"], "-o", os.path.join(tmp, "e.exr"), "--expect-spp", "16")
+        check(r.returncode == 0, f"one environment map through two paths: merge exit {r.returncode} ({r.stderr.strip()})")
+        r = run(veach, "merge", env_parts["a"], env_parts["edited_png"], "-o", os.path.join(tmp, "e2.exr"))
+        one_line_exit2(r, "parts of an edited environment map")
     if FAILURES:
         print(f"{len(FAILURES)} failure(s)")
         return 1

@@ -5,10 +5,12 @@ What must hold (the promise is exactness, so these comparisons are exact where i
 - Sample-range parts (--samples A:B -o X.vpart) of a path-traced render merge into the single
   render bit for bit; bdpt and lt parts agree to the summation order of their splats (relative
   1e-6). A 2x2 tile split (--pixelbounds) likewise, and tiles crossed with sample ranges.
-- A merge may write a .vpart again, and merging that with the rest is the same image.
+- A merge may write a .vpart again, and merging that with the rest is the same image; it writes
+  any format a render writes, several at once (an EXR and a PNG equal to the single render's).
 - The merged image says spp = the samples merged, complete when they are all of --spp.
 - Refusals, exit 2 with one line naming the files: parts of different renders, overlapping
-  parts, gaps with --expect-spp, a corrupt part. --samples with --noise or --time, or past --spp,
+  sample ranges, overlapping tiles, gaps with --expect-spp (a missing sample range, a missing
+  tile), a corrupt part. --samples with --noise or --time, or past --spp,
   and --samples or --pixelbounds with --transparent (parts hold no coverage) are usage errors
   (exit 1); pixel bounds outside the image are bad input (exit 2).
 Exit 0 pass, 1 fail.
@@ -134,6 +136,17 @@ def main():
             r = merge(veach, [half] + pt[2:], out, "--expect-spp", str(SPP))
             if check(r.returncode == 0, f"progressive merge: exit {r.returncode}: {r.stderr.strip()}"):
                 compare(os.path.join(tmp, "single_pt.exr"), out, True, "pt merged part + parts")
+        # Any format `veach render` writes, several at once: the merged PNG is the single render's
+        # PNG (the same sums through the same display transform and 8-bit encoding), and says so.
+        single_png = os.path.join(tmp, "single_pt.png")
+        render(veach, scene, single_png, "--integrator", "pt")
+        out_exr, out_png = os.path.join(tmp, "both.exr"), os.path.join(tmp, "both.png")
+        r = merge(veach, pt, out_exr, "-o", out_png, "--expect-spp", str(SPP))
+        if check(r.returncode == 0, f"merge to .exr and .png: exit {r.returncode}: {r.stderr.strip()}"):
+            compare(os.path.join(tmp, "single_pt.exr"), out_exr, True, "pt merged into an EXR beside a PNG")
+            spec = compare(single_png, out_png, True, "pt merged into a PNG")
+            check(spec.get_string_attribute("veach:spp") == str(SPP), "merged PNG: veach:spp")
+            check(spec.get_string_attribute("veach:complete") == "yes", "merged PNG: not marked complete")
         # Without --expect-spp a partial set merges, honestly marked.
         out = os.path.join(tmp, "partial.exr")
         r = merge(veach, pt[:3], out)
@@ -150,6 +163,15 @@ def main():
         refused(merge(veach, [pt[0], overlapping], os.path.join(tmp, "x.exr")), [pt[0], overlapping], "overlap")
         refused(merge(veach, [pt[0], pt[2], pt[3]], os.path.join(tmp, "x.exr"), "--expect-spp", str(SPP)),
                 [pt[0], pt[2]], "gap with --expect-spp")
+        # Tiles: two that share pixels are refused as the sample ranges are; three of four tiles
+        # with --expect-spp leave a gap (the fourth tile's pixels hold no samples).
+        tile_pt = [os.path.join(tmp, f"tile_pt_{x0}_{y0}.vpart") for x0, x1, y0, y1 in tiles]
+        shifted = os.path.join(tmp, "tile_shifted.vpart")
+        render(veach, scene, shifted, "--integrator", "pt", "--pixelbounds", "16,48,0,32")
+        refused(merge(veach, [tile_pt[0], shifted], os.path.join(tmp, "x.exr")), [tile_pt[0], shifted],
+                "overlapping tiles")
+        refused(merge(veach, tile_pt[:3], os.path.join(tmp, "x.exr"), "--expect-spp", str(SPP)), tile_pt[:1],
+                "a missing tile with --expect-spp")
         corrupt = os.path.join(tmp, "corrupt.vpart")
         data = bytearray(open(pt[1], "rb").read())
         data[len(data) // 2] ^= 0x40
