@@ -7,9 +7,15 @@ MailProg=/bin/true; PID 1 is not systemd, so the daemons are started by hand, in
 and the node name is given to slurmd). Then plugins/slurm/veach-slurm submits:
 - an array of 4 sample-range parts of cornell and a dependent merge: the merged image equals a
   single render bit for bit with pt, and to relative 1e-6 with bdpt (splat summation order);
-- a 2x2 tile split (pt) likewise, bit for bit;
+- a 2x2 tile split likewise: pt bit for bit, bdpt to relative 1e-6;
+- a sequence, frames 7-8 of an animated scene x 2 sample chunks in one array ($SLURM_ARRAY_TASK_ID
+  decoded to frame and chunk) and a merge per frame: each merged frame is, bit for bit, that
+  frame rendered alone (`veach render SCENE --frame N`);
 - a render whose parts fail: the merge job ends CANCELLED (--kill-on-invalid-dep=yes), it is not
-  left PENDING.
+  left PENDING;
+- a part preempted mid-render (`scontrol requeue` once its first checkpoint exists) runs again,
+  continues from its checkpoint (its second run's first progress line is past 0%), and the merge
+  is the single render bit for bit.
 The daemons are stopped by their PIDs and every wait is bounded.
 Exit 0 pass, 1 fail (also when Slurm or munge is missing: scripts/install-deps.sh installs them).
 """
@@ -169,10 +175,45 @@ def compare(single, merged, exact, what):
         check(float(rel.max()) <= 1e-6, f"{what}: merged image differs by relative {float(rel.max()):.3g}")
 
 
+def check_requeue(cluster, submit, veach, scene, tmp):
+    """A task preempted mid-render (`scontrol requeue`, as a preempting partition does) runs again
+    and continues from its checkpoint (--requeue, --checkpoint/--resume in veach-part.sbatch): its
+    log shows the second run starting past 0%, and the merge is, bit for bit, the single render."""
+    size = ["--width", "32", "--height", "32"]
+    spp = "2048"  # about 2 s on one idle CPU, far longer than its first pass (1 spp)
+    out = os.path.join(tmp, "requeue", "merged.exr")
+    os.makedirs(os.path.dirname(out))
+    # --checkpoint 0 (every pass) after the template's 60 s, so a checkpoint exists at once.
+    array, merge = submit(out, "--spp", spp, *size, render=["--integrator", "pt", "--checkpoint", "0"])
+    parts = os.path.join(tmp, "requeue", "parts")
+    checkpoint = os.path.join(parts, "c0_t0.vpart.checkpoint")
+    wait_for(lambda: os.path.exists(checkpoint), 120, "the part's first checkpoint")
+    r = subprocess.run(["scontrol", "requeue", f"{array}_0"], capture_output=True, text=True, env=cluster.env,
+                       timeout=20)
+    if not check(r.returncode == 0, f"scontrol requeue: exit {r.returncode}: {r.stderr.strip()} (the part finished "
+                                    "before it could be preempted?)"):
+        return
+    single = os.path.join(tmp, "single_requeue.exr")
+    subprocess.run([veach, "render", scene, "-o", single, *size, "--spp", spp, "--integrator", "pt", "-q"], check=True,
+                   timeout=300)
+    state = cluster.wait_job(array, 240)
+    check(state == ["COMPLETED"], f"the requeued part ended {state}")
+    state = cluster.wait_job(merge, 90)
+    check(state == ["COMPLETED"], f"the merge after a requeued part ended {state}")
+    log = open(os.path.join(parts, f"slurm-{array}_0.log")).read()
+    runs = log.split("DUE TO JOB REQUEUE")
+    if check(len(runs) == 2, f"the part's log does not show one requeue: {log[-2000:]}"):
+        first = [line for line in runs[1].splitlines() if line.startswith("Progress:")]
+        percent = int(first[0].split()[1].rstrip("%")) if first else 0
+        check(percent > 0, f"the requeued part started again from 0% instead of its checkpoint: {first[:3]}")
+    compare(single, out, True, "pt, a part requeued mid-render on Slurm")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--veach", required=True)
     ap.add_argument("--scene", required=True)
+    ap.add_argument("--animated-scene", required=True, help="an animated glTF for the frames x chunks array")
     ap.add_argument("--submit", required=True, help="plugins/slurm/veach-slurm")
     args = ap.parse_args()
     missing = [p for p in PROGRAMS if shutil.which(p) is None]
@@ -203,9 +244,20 @@ def main():
             os.makedirs(os.path.dirname(out))
             jobs[integrator] = (out, submit(out, "--spp", "16", "--chunks", "4", *size,
                                             render=["--integrator", integrator, "-q"]))
-        tiles = os.path.join(tmp, "tiles", "merged.exr")
-        os.makedirs(os.path.dirname(tiles))
-        jobs["tiles"] = (tiles, submit(tiles, "--spp", "16", "--tiles", "2x2", *size, render=["--integrator", "pt", "-q"]))
+        for integrator in ("pt", "bdpt"):
+            tiles = os.path.join(tmp, f"tiles_{integrator}", "merged.exr")
+            os.makedirs(os.path.dirname(tiles))
+            jobs[f"tiles_{integrator}"] = (tiles, submit(tiles, "--spp", "16", "--tiles", "2x2", *size,
+                                                         render=["--integrator", integrator, "-q"]))
+        # A sequence: frames x sample chunks of the animated scene, one merge per frame.
+        frames = os.path.join(tmp, "frames", "frame_{frame}.exr")
+        os.makedirs(os.path.dirname(frames))
+        sequence = subprocess.run([args.submit, args.animated_scene, "-o", frames, "--veach", veach, "--spp", "16",
+                                   "--chunks", "2", "--frames", "7-8", *size, "--", "--integrator", "pt", "-q"],
+                                  capture_output=True, text=True, env=cluster.env, timeout=30)
+        if sequence.returncode != 0:
+            raise RuntimeError(f"veach-slurm --frames: exit {sequence.returncode}: {sequence.stderr.strip()}")
+        sequence_jobs = sequence.stdout.split()
         broken = os.path.join(tmp, "broken", "merged.exr")
         os.makedirs(os.path.dirname(broken))
         broken_jobs = submit(broken, "--spp", "16", "--chunks", "2", *size, render=["--no-such-flag"])
@@ -217,6 +269,11 @@ def main():
             subprocess.run([veach, "render", args.scene, "-o", singles[integrator], *size, "--spp", "16",
                             "--integrator", integrator, "-q"], check=True, timeout=120)
 
+        for frame in (7, 8):
+            singles[frame] = os.path.join(tmp, f"single_frame{frame}.exr")
+            subprocess.run([veach, "render", args.animated_scene, "--frame", str(frame), "-o", singles[frame], *size,
+                            "--spp", "16", "--integrator", "pt", "-q"], check=True, timeout=120)
+
         for what, (out, ids) in jobs.items():
             array, merge = ids[0], ids[1]
             parts = cluster.wait_job(array, 150)
@@ -225,13 +282,24 @@ def main():
             check(state == ["COMPLETED"], f"{what}: merge job ended {state}")
         compare(singles["pt"], jobs["pt"][0], True, "pt, 4 sample chunks on Slurm")
         compare(singles["bdpt"], jobs["bdpt"][0], False, "bdpt, 4 sample chunks on Slurm")
-        compare(singles["pt"], jobs["tiles"][0], True, "pt, 2x2 tiles on Slurm")
+        compare(singles["pt"], jobs["tiles_pt"][0], True, "pt, 2x2 tiles on Slurm")
+        compare(singles["bdpt"], jobs["tiles_bdpt"][0], False, "bdpt, 2x2 tiles on Slurm")
+        check(len(sequence_jobs) == 3, f"veach-slurm --frames 7-8 printed {sequence_jobs}: an array and two merges")
+        parts = cluster.wait_job(sequence_jobs[0], 150)
+        check(len(parts) == 4 and all(s == "COMPLETED" for s in parts), f"frames x chunks: array tasks ended {parts}")
+        for frame, merge in zip((7, 8), sequence_jobs[1:]):
+            state = cluster.wait_job(merge, 90)
+            check(state == ["COMPLETED"], f"frame {frame}: merge job ended {state}")
+            compare(singles[frame], frames.replace("{frame}", str(frame)), True,
+                    f"pt, frame {frame} of --frames 7-8 in 2 chunks on Slurm")
 
         parts = cluster.wait_job(broken_jobs[0], 60)
         check(all(s == "FAILED" for s in parts), f"failing parts ended {parts}, expected FAILED")
         state = cluster.wait_job(broken_jobs[1], 30)
         check(state == ["CANCELLED"], f"the merge of failed parts ended {state}, expected CANCELLED (not PENDING)")
         check(not os.path.exists(broken), "the merge of failed parts wrote an image")
+
+        check_requeue(cluster, submit, veach, args.scene, tmp)
     except (RuntimeError, subprocess.SubprocessError) as e:
         check(False, str(e))
         for log in ("slurmctld.log", "slurmd.log", "munged.log"):
