@@ -23,64 +23,11 @@
 #include <thread>
 #include <vector>
 
+#include "capi_fixture.h"
 #include "veach/veach.h"
 #include "veach/veach.hpp"
 
 namespace {
-
-const std::string k_cornell = std::string(VEACH_EXAMPLES_DIR) + "/cornell/cornell.gltf";
-
-struct ErrorLog {
-    std::atomic<int> calls{0};
-    VeachError last_code = VEACH_ERROR_NONE;
-    std::string last_message;
-};
-
-void record_error(void* user, VeachError code, const char* message) {
-    auto* log = static_cast<ErrorLog*>(user);
-    log->last_code = code;
-    log->last_message = message;
-    ++log->calls;
-}
-
-class CApi : public ::testing::Test {
-protected:
-    void SetUp() override {
-        m_device = veachNewDevice();
-        ASSERT_NE(m_device, nullptr);
-        veachSetDeviceErrorFunction(m_device, record_error, &m_errors);
-    }
-    void TearDown() override { veachReleaseDevice(m_device); }
-
-    // A small render of the Cornell box: the path tracer, a fixed seed.
-    VeachRender new_cornell_render(VeachScene scene, int spp = 4, long long seed = 7) {
-        VeachRender r = veachNewRender(scene);
-        EXPECT_EQ(veachSetInt(r, "width", 48), VEACH_ERROR_NONE);
-        EXPECT_EQ(veachSetInt(r, "height", 48), VEACH_ERROR_NONE);
-        EXPECT_EQ(veachSetInt(r, "spp", spp), VEACH_ERROR_NONE);
-        EXPECT_EQ(veachSetInt(r, "seed", seed), VEACH_ERROR_NONE);
-        EXPECT_EQ(veachSetString(r, "integrator", "pt"), VEACH_ERROR_NONE);
-        return r;
-    }
-
-    static std::vector<float> combined(VeachRender r) {
-        long long w = 0, h = 0;
-        veachGetInt(r, "result_width", &w);
-        veachGetInt(r, "result_height", &h);
-        std::vector<float> px(static_cast<size_t>(w * h * 4));
-        EXPECT_EQ(veachGetPass(r, "combined", px.data(), px.size() * sizeof(float), 0), VEACH_ERROR_NONE) << veachGetLastError();
-        return px;
-    }
-
-    static double mean_rgb(const std::vector<float>& rgba) {
-        double sum = 0;
-        for (size_t i = 0; i < rgba.size(); i += 4) sum += rgba[i] + rgba[i + 1] + rgba[i + 2];
-        return sum / (3.0 * static_cast<double>(rgba.size() / 4));
-    }
-
-    VeachDevice m_device = nullptr;
-    ErrorLog m_errors;
-};
 
 TEST(CApiVersion, LibraryMatchesHeader) {
     // A host compiled against one header and run with another library must be able to tell.
@@ -468,14 +415,6 @@ long long get_int(VeachRender r, const char* name) {
     EXPECT_EQ(veachGetInt(r, name, &v), VEACH_ERROR_NONE) << veachGetLastError();
     return v;
 }
-
-// An error code and a last-error message that names `needle`.
-#define EXPECT_REFUSED(call, code, needle)                                                                  \
-    do {                                                                                                    \
-        EXPECT_EQ((call), (code));                                                                          \
-        EXPECT_EQ(veachGetLastErrorCode(), (code));                                                         \
-        EXPECT_NE(std::string(veachGetLastError()).find(needle), std::string::npos) << veachGetLastError(); \
-    } while (0)
 
 TEST_F(CApi, SceneOptionsAreCheckedAndFrozenByTheLoad) {
     VeachScene s = veachNewScene(m_device);
@@ -885,82 +824,4 @@ TEST_F(CApi, OpenImageIOIsLoadedOnlyByTheFirstImageReadOrWritten) {
     veachReleaseRender(r);
     veachReleaseScene(scene);
     std::filesystem::remove_all(dir);
-}
-
-// An orthographic camera over [-1, 1]^2 and an emissive quad (radiance 1) on its left half that
-// slides out of view by -1 in x between t = 0 and 1: the image mean is 0.5 at t = 0, 0.25 at 0.5.
-std::string slide_gltf() {
-    std::ifstream in(std::string(VEACH_TEST_DATA_DIR) + "/gltf/slide.gltf");
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-TEST_F(CApi, SceneTimeAfterTheLoadPosesItAgainWithoutReadingTheFile) {
-    const std::string text = slide_gltf();
-    ASSERT_FALSE(text.empty());
-    const std::string path = ::testing::TempDir() + "/veach_capi_slide.gltf";
-    std::ofstream(path) << text;
-    VeachScene s = veachNewScene(m_device);
-    double t = 0;
-    ASSERT_EQ(veachGetSceneFloat(s, "time", &t), VEACH_ERROR_NONE);
-    EXPECT_TRUE(std::isnan(t));  // unset: the static pose
-    ASSERT_EQ(veachSetSceneFloat(s, "time", 0.0), VEACH_ERROR_NONE);
-    ASSERT_EQ(veachLoadSceneFile(s, path.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
-    std::remove(path.c_str());  // whatever comes next cannot read the file
-    auto render_mean = [&](int spp) {
-        VeachRender r = veachNewRender(s);
-        veachSetInt(r, "width", 16);
-        veachSetInt(r, "height", 16);
-        veachSetInt(r, "spp", spp);
-        veachSetString(r, "integrator", "pt");
-        EXPECT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
-        double mean = mean_rgb(combined(r));
-        veachReleaseRender(r);
-        return mean;
-    };
-    EXPECT_NEAR(render_mean(2), 0.5, 1e-6);
-    ASSERT_EQ(veachSetSceneFloat(s, "time", 0.5), VEACH_ERROR_NONE) << veachGetLastError();
-    EXPECT_NEAR(render_mean(2), 0.25, 1e-6);
-    ASSERT_EQ(veachGetSceneFloat(s, "time", &t), VEACH_ERROR_NONE);
-    EXPECT_EQ(t, 0.5);
-
-    // Never while a render of the scene runs.
-    VeachRender busy = veachNewRender(s);
-    veachSetInt(busy, "width", 64);
-    veachSetInt(busy, "height", 64);
-    veachSetInt(busy, "spp", 1 << 20);
-    ASSERT_EQ(veachRenderAsync(busy), VEACH_ERROR_NONE);
-    EXPECT_REFUSED(veachSetSceneFloat(s, "time", 1.0), VEACH_ERROR_INVALID_OPERATION, "running");
-    veachCancelRender(busy);
-    veachWaitRender(busy, -1);
-    EXPECT_EQ(veachSetSceneFloat(s, "time", 1.0), VEACH_ERROR_NONE) << veachGetLastError();
-    EXPECT_NEAR(render_mean(2), 0.0, 1e-6);
-    veachReleaseRender(busy);
-    veachReleaseScene(s);
-
-    // A scene loaded without a time has nothing to pose.
-    VeachScene still = veachNewSceneFromFile(m_device, k_cornell.c_str());
-    EXPECT_REFUSED(veachSetSceneFloat(still, "time", 1.0), VEACH_ERROR_INVALID_OPERATION, "without a time");
-    veachReleaseScene(still);
-}
-
-TEST_F(CApi, SceneShutterIsCheckedBeforeTheLoadAndNeedsATime) {
-    VeachScene s = veachNewScene(m_device);
-    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "0.25,-0.25"), VEACH_ERROR_INVALID_ARGUMENT, "opens after");
-    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "nan,0.25"), VEACH_ERROR_INVALID_ARGUMENT, "OPEN,CLOSE");
-    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "0.25"), VEACH_ERROR_INVALID_ARGUMENT, "OPEN,CLOSE");
-    EXPECT_REFUSED(veachSetSceneString(s, "shutter", "0,inf"), VEACH_ERROR_INVALID_ARGUMENT, "OPEN,CLOSE");
-    ASSERT_EQ(veachSetSceneString(s, "shutter", "-0.01,0.01"), VEACH_ERROR_NONE) << veachGetLastError();
-    char value[64];
-    size_t length = 0;
-    ASSERT_EQ(veachGetSceneString(s, "shutter", value, sizeof(value), &length), VEACH_ERROR_NONE);
-    EXPECT_STREQ(value, "-0.01,0.01");
-    // Motion blur is the animation across the shutter: without a time there is none to sample.
-    EXPECT_REFUSED(veachLoadSceneFile(s, k_cornell.c_str()), VEACH_ERROR_INVALID_OPERATION, "needs 'time'");
-    veachReleaseScene(s);
-    // With a time it loads; an empty shutter is none.
-    VeachScene t = veachNewScene(m_device);
-    ASSERT_EQ(veachSetSceneFloat(t, "time", 0.0), VEACH_ERROR_NONE);
-    ASSERT_EQ(veachSetSceneString(t, "shutter", "0,0"), VEACH_ERROR_NONE);
-    EXPECT_EQ(veachLoadSceneFile(t, k_cornell.c_str()), VEACH_ERROR_NONE) << veachGetLastError();
-    veachReleaseScene(t);
 }
