@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -649,24 +650,40 @@ bool make_options_render(VeachDevice device, const RenderCommand& cmd, OptionsRe
 
 // Every file the command will write, checked before any scene loads: a farm task with a typo in
 // an output name, a colour config name or a folder must fail in a second, not after an hour of
-// rendering.
+// rendering. A sequence's files are checked once per folder: a frame pattern in the file name
+// alone (out/f_####.exr) checks one folder for every frame, one in a folder's name
+// (out/####/beauty.exr) checks each frame's folder, which must exist as any output's must.
 int check_outputs(VeachDevice device, const RenderCommand& cmd, VeachRender check) {
     auto refuse = [](VeachError e) {
         std::fprintf(stderr, "veach: %s\n", veachGetLastError());
         return e == VEACH_ERROR_INVALID_ARGUMENT ? k_usage : k_bad_input;
     };
     const bool checkpointing = cmd.checkpoint_seconds >= 0 || cmd.resume;
+    const bool animated = !cmd.frames.empty();
+    const std::vector<long long> still{0};
+    std::set<std::string> checked;  // what, folder and extension of the files checked
+    auto first_in_folder = [&](const std::string& what, const std::string& path) {
+        const std::filesystem::path p(path);
+        return checked.insert(what + '\n' + p.parent_path().string() + '\n' + p.extension().string()).second;
+    };
     for (const std::string& input : cmd.inputs) {
-        for (const std::string& pattern : cmd.outputs)
-            if (VeachError e = veachCheckOutput(check, output_path_for(pattern, input).c_str()); e != VEACH_ERROR_NONE)
-                return refuse(e);
-        if (!cmd.stats_json.empty())
-            if (VeachError e = veachCheckFile(device, output_path_for(cmd.stats_json, input).c_str());
-                e != VEACH_ERROR_NONE)
-                return refuse(e);
-        if (checkpointing)
-            if (VeachError e = veachCheckFile(device, checkpoint_path_for(cmd, input).c_str()); e != VEACH_ERROR_NONE)
-                return refuse(e);
+        checked.clear();
+        for (long long frame : animated ? cmd.frames : still) {
+            auto path = [&](const std::string& pattern) {
+                return output_path_for(animated ? with_frame(pattern, frame) : pattern, input);
+            };
+            for (size_t i = 0; i < cmd.outputs.size(); ++i) {
+                const std::string out = path(cmd.outputs[i]);
+                if (first_in_folder("output " + std::to_string(i), out))
+                    if (VeachError e = veachCheckOutput(check, out.c_str()); e != VEACH_ERROR_NONE) return refuse(e);
+            }
+            if (!cmd.stats_json.empty())
+                if (const std::string stats = path(cmd.stats_json); first_in_folder("stats", stats))
+                    if (VeachError e = veachCheckFile(device, stats.c_str()); e != VEACH_ERROR_NONE) return refuse(e);
+            if (checkpointing && !cmd.outputs.empty())
+                if (const std::string c = path(cmd.outputs.front()) + ".checkpoint"; first_in_folder("checkpoint", c))
+                    if (VeachError e = veachCheckFile(device, c.c_str()); e != VEACH_ERROR_NONE) return refuse(e);
+        }
     }
     return k_ok;
 }

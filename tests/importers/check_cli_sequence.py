@@ -8,6 +8,10 @@ extensionsUsed, whose warning the import prints once per load. What must hold:
   and 0, and the import's warning is printed once: one load for the three frames;
 - {frame} patterns work too (-o f_{frame}.exr --frames 3-5: f_3, f_4, f_5), and so do
   --stats-json patterns (one file per frame); {stem} with #### (-o {stem}_##.exr: slide_00, slide_01);
+- a frame pattern may name a folder per frame (-o per_frame/{frame}/beauty.exr), and every
+  frame's folder is checked before anything renders: with padded/0000 there and padded/0001
+  missing, -o padded/####/beauty.exr --frames 0-1 is refused (exit 2, one line naming
+  padded/0001) and frame 0 is not rendered;
 - several frames with an output (or --stats-json) that is not a pattern, --frame with --frames,
   a range that runs backwards and a step of 0 are usage errors: exit 1, one line, nothing written;
 - --skip-existing skips the frames whose outputs are complete and renders the others;
@@ -84,6 +88,22 @@ def main():
         check(proc.returncode == 0, f"-o {{stem}}_##.exr: exit {proc.returncode}: {proc.stderr.strip()}")
         for frame in (0, 1):
             check(os.path.exists(os.path.join(tmp, "slide_%02d.exr" % frame)), f"slide_{frame:02d}.exr not written")
+
+        # A frame pattern in a folder name: a folder per frame, each checked before anything
+        # renders (it must exist, as any output's folder must).
+        for frame in (0, 1):
+            os.makedirs(os.path.join(tmp, "per_frame", str(frame)))
+        proc = run("-o", os.path.join(tmp, "per_frame", "{frame}", "beauty.exr"), "--frames", "0-1")
+        check(proc.returncode == 0, f"-o per_frame/{{frame}}/beauty.exr: exit {proc.returncode}: {proc.stderr.strip()}")
+        for frame in (0, 1):
+            check(os.path.exists(os.path.join(tmp, "per_frame", str(frame), "beauty.exr")),
+                  f"per_frame/{frame}/beauty.exr not written")
+        os.makedirs(os.path.join(tmp, "padded", "0000"))
+        proc = run("-o", os.path.join(tmp, "padded", "####", "beauty.exr"), "--frames", "0-1")
+        lines = proc.stderr.strip().splitlines()
+        check(proc.returncode == 2 and len(lines) == 1 and os.path.join("padded", "0001") in lines[0],
+              f"frame 1's missing folder padded/0001: exit {proc.returncode}, {lines} (expected 2, naming it)")
+        check(not os.listdir(os.path.join(tmp, "padded", "0000")), "frame 0 rendered before frame 1's folder was checked")
 
         refusals = [(["-o", os.path.join(tmp, "plain.exr"), "--frames", "1-2"], "several frames need an output pattern"),
                     (["-o", os.path.join(tmp, "p_#.exr"), "--frames", "1-2", "--stats-json",
