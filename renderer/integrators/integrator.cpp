@@ -15,6 +15,7 @@
 
 #include "film/adaptive_sampling.h"
 #include "integrators/bdpt/bidirectional_tracer.h"
+#include "integrators/lt/light_tracer.h"
 #include "integrators/pt/path_tracer.h"
 
 namespace veach {
@@ -27,11 +28,11 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings) {
         throw std::invalid_argument("the strategy options bdpt_s/bdpt_t (--bdpt-strategy) apply only to the bdpt "
                                     "integrator, not " + settings.integrator);
     if (settings.integrator == "pt") return std::make_unique<PathTracer>(settings);
-    if (settings.integrator == "bdpt" || settings.integrator == "lt") {
+    if (settings.integrator == "lt") return std::make_unique<LightTracer>(settings);
+    if (settings.integrator == "bdpt") {
         BdptOptions options;
-        options.light_tracing_only = settings.integrator == "lt";
         if (settings.bdpt_s >= 0 || settings.bdpt_t >= 0) {
-            if (settings.integrator != "bdpt" || settings.bdpt_s < 0 || settings.bdpt_t < 1)
+            if (settings.bdpt_s < 0 || settings.bdpt_t < 1)
                 throw std::invalid_argument("a bdpt strategy needs s >= 0 and t >= 1 with --integrator bdpt");
             options.only_s = settings.bdpt_s;
             options.only_t = settings.bdpt_t;
