@@ -33,20 +33,6 @@ void fill_surface_vertex(const RenderScene& rs, const RayHit& rh, const Vec3& di
     v->bsdf = sp.bsdf(rs, -dir);
 }
 
-// KHR_materials_volume. Media are the interiors of closed, non-nested transmissive meshes, as the
-// path tracer assumes; cameras, lights and the environment are in air. A vertex knows the medium
-// its own subpath arrived through (sigma_in); a segment leaving it on that side travels in the
-// same medium, one leaving through a transmissive surface travels in the mesh's interior when it
-// enters and in air when it leaves. Beer-Lambert transmittance is part of each edge's throughput:
-// it is symmetric in the two ends and no sampling decision depends on it, so every strategy's
-// densities, and with them the MIS weights, are those of the medium-free path. A connection edge
-// takes its medium from the camera-side end (the path tracer's light-sample rule); in a closed
-// scene the light-side end agrees, since the edge is unoccluded.
-Rgb medium_toward(const PathVertex& v, const Vec3& w) {
-    if (v.kind != PathVertex::Kind::Surface) return v.sigma_in;
-    return v.bsdf.medium_toward(w, v.sigma_in, *v.material);
-}
-
 // roulette_scale: 1 / the throughput the subpath started with, so that Russian roulette follows
 // the fraction of it still carried (a light subpath's throughput is in units of emitted power,
 // far above 1, and compared with 1 it would never be terminated).
