@@ -22,7 +22,7 @@ const JOB_TYPE = {
         { key: "scene", type: "string", subtype: "file_path", required: true,
           description: "The .gltf or .glb to render (a path every Worker can read)" },
         { key: "output", type: "string", subtype: "file_path", required: true,
-          description: "The merged image per frame; {frame} is replaced by the frame number (e.g. /render/shot/frame_{frame}.exr)" },
+          description: "The merged image per frame; {frame} is replaced by the frame number, #### by the number zero-padded to four digits (e.g. /render/shot/frame_####.exr)" },
         { key: "frames", type: "string", required: true, default: "1",
           description: "Frames to render, Flamenco's notation: 1-250, 1,3,10-20 (1..250 works too)" },
         { key: "spp", type: "int32", required: true, default: 1024, description: "Samples per pixel of each frame" },
@@ -51,8 +51,8 @@ function compileJob(job) {
     if (!s.scene) throw "no scene given";
     if (!s.output) throw "no output given";
     const frames = explodeFrames(s.frames);
-    if (frames.length > 1 && String(s.output).indexOf("{frame}") < 0)
-        throw `several frames (${s.frames}) need {frame} in the output, or every merge writes the same file`;
+    if (frames.length > 1 && !/\{frame\}|#/.test(String(s.output)))
+        throw `several frames (${s.frames}) need {frame} or #### in the output, or every merge writes the same file`;
 
     const exe = s.veach || "veach";
     const partsDir = s.parts_dir ? s.parts_dir : path.join(path.dirname(s.output), "parts");
@@ -84,12 +84,18 @@ function compileJob(job) {
         const merge = author.Task(`merge-f${frame}`, "veach");
         merge.addCommand(author.Command("exec", {
             exe: exe,
-            args: ["merge"].concat(parts, ["--expect-spp", String(spp), "-o",
-                String(s.output).split("{frame}").join(String(frame))]),
+            args: ["merge"].concat(parts, ["--expect-spp", String(spp), "-o", withFrame(String(s.output), frame)]),
         }));
         for (const r of renders) merge.addDependency(r);
         job.addTask(merge);
     }
+}
+
+// The output of one frame, as `veach render --frames` names it: {frame} becomes the number, each
+// run of # the number zero-padded to the run's length (Blender's ####).
+function withFrame(output, frame) {
+    return output.split("{frame}").join(String(frame))
+        .replace(/#+/g, (run) => String(frame).padStart(run.length, "0"));
 }
 
 // Flamenco passes int32 settings as numbers; a hand-written job may pass strings.

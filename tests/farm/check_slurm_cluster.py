@@ -9,8 +9,9 @@ and the node name is given to slurmd). Then plugins/slurm/veach-slurm submits:
   single render bit for bit with pt, and to relative 1e-6 with bdpt (splat summation order);
 - a 2x2 tile split likewise: pt bit for bit, bdpt to relative 1e-6;
 - a sequence, frames 7-8 of an animated scene x 2 sample chunks in one array ($SLURM_ARRAY_TASK_ID
-  decoded to frame and chunk) and a merge per frame: each merged frame is, bit for bit, that
-  frame rendered alone (`veach render SCENE --frame N`);
+  decoded to frame and chunk) and a merge per frame: each merged frame, written through a
+  {frame} and a #### output, is bit for bit that frame rendered alone (`veach render SCENE
+  --frame N`); --frames with an output that has no frame pattern is refused before submitting;
 - a render whose parts fail: the merge job ends CANCELLED (--kill-on-invalid-dep=yes), it is not
   left PENDING;
 - a part preempted mid-render (`scontrol requeue` once its first checkpoint exists) runs again,
@@ -252,11 +253,13 @@ def main():
             jobs[f"tiles_{integrator}"] = (tiles, submit(tiles, "--spp", "16", "--tiles", "2x2", *size,
                                                          render=["--integrator", integrator, "-q"]))
         # A sequence: frames x sample chunks of the animated scene, one merge per frame.
+        # Each merge writes its frame's files: {frame} and #### as `veach render --frames` takes them.
         frames = os.path.join(tmp, "frames", "frame_{frame}.exr")
+        padded = os.path.join(tmp, "frames", "padded_####.exr")
         os.makedirs(os.path.dirname(frames))
-        sequence = subprocess.run([args.submit, args.animated_scene, "-o", frames, "--veach", veach, "--spp", "16",
-                                   "--chunks", "2", "--frames", "7-8", *size, "--", "--integrator", "pt", "-q"],
-                                  capture_output=True, text=True, env=cluster.env, timeout=30)
+        sequence = subprocess.run([args.submit, args.animated_scene, "-o", frames, "-o", padded, "--veach", veach,
+                                   "--spp", "16", "--chunks", "2", "--frames", "7-8", *size, "--", "--integrator",
+                                   "pt", "-q"], capture_output=True, text=True, env=cluster.env, timeout=30)
         if sequence.returncode != 0:
             raise RuntimeError(f"veach-slurm --frames: exit {sequence.returncode}: {sequence.stderr.strip()}")
         sequence_jobs = sequence.stdout.split()
@@ -294,6 +297,15 @@ def main():
             check(state == ["COMPLETED"], f"frame {frame}: merge job ended {state}")
             compare(singles[frame], frames.replace("{frame}", str(frame)), True,
                     f"pt, frame {frame} of --frames 7-8 in 2 chunks on Slurm")
+            compare(singles[frame], padded.replace("####", "%04d" % frame), True,
+                    f"pt, frame {frame} of --frames 7-8 through a #### output")
+        # Several frames into one file name would overwrite each other: refused before submitting.
+        r = subprocess.run([args.submit, args.animated_scene, "-o", os.path.join(tmp, "frames", "same.exr"), "--veach",
+                            veach, "--spp", "16", "--frames", "7-8"], capture_output=True, text=True, env=cluster.env,
+                           timeout=30)
+        check(r.returncode == 1 and not r.stdout.strip() and "{frame}" in r.stderr,
+              f"veach-slurm --frames with an output without a frame pattern: exit {r.returncode}, printed "
+              f"{r.stdout.strip()!r}, {r.stderr.strip()!r} (expected 1, nothing submitted)")
 
         parts = cluster.wait_job(broken_jobs[0], 60)
         check(all(s == "FAILED" for s in parts), f"failing parts ended {parts}, expected FAILED")

@@ -156,11 +156,20 @@ test("uneven chunks, a frame list, extra flags, threads and a parts folder", () 
     assert.ok(valueAfter(args, "-o").startsWith("/scratch/p/scene_f5_"));
 });
 
+test("#### in the output is the frame zero-padded to the run's length, as veach render --frames writes it", () => {
+    const { tasks } = compile({ ...base, frames: "7,12", output: "/farm/out/####/beauty_##.exr" });
+    const outs = tasks.filter((t) => t.name.startsWith("merge-")).map((m) => valueAfter(m.commands[0].parameters.args, "-o"));
+    assert.deepStrictEqual(outs, ["/farm/out/0007/beauty_07.exr", "/farm/out/0012/beauty_12.exr"]);
+    assert.deepStrictEqual(compile({ ...base, frames: "123", output: "/farm/f_{frame}_#.exr" }).tasks
+        .filter((t) => t.name.startsWith("merge-")).map((m) => valueAfter(m.commands[0].parameters.args, "-o")),
+                           ["/farm/f_123_123.exr"]);
+});
+
 test("bad settings are refused when the job is compiled", () => {
     assert.throws(() => compile({ ...base, chunks: 2048 }), /chunks/);
     assert.throws(() => compile({ ...base, chunks: 0 }), /chunks/);
     assert.throws(() => compile({ ...base, spp: "many" }), /spp/);
-    assert.throws(() => compile({ ...base, output: "/farm/out/still.exr" }), /\{frame\}/);
+    assert.throws(() => compile({ ...base, output: "/farm/out/still.exr" }), /\{frame\} or ####/);
     assert.throws(() => compile({ ...base, frames: "a-b" }));
     // One frame needs no {frame}.
     assert.strictEqual(compile({ ...base, frames: "7", output: "/farm/out/still.exr" }).tasks.length, 17);
