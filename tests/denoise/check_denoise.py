@@ -19,7 +19,8 @@ kept (--passes combined,noisy), at 16 and 64 spp, and compares both with the Cyc
     contrast on average (a blur of one pixel halves it);
   - the stats report the denoiser's time.
 Exit 0 pass, 1 fail. VEACH_TEST_SPP_DIVISOR (make test-sanitize) divides the sample counts and
-checks only that the denoiser runs and keeps the means."""
+checks only that the denoiser runs, gives finite values and keeps the means (within the
+tolerance times the square root of the divisor)."""
 import argparse, json, os, subprocess, sys, tempfile
 
 import numpy as np
@@ -107,8 +108,10 @@ for spp in spps:
         ok = False
     if a.edges and r["edges"] < 0.9:
         print("FAIL: the texture's edges keep only %.3f of their contrast (at least 0.9)" % r["edges"]); ok = False
+# At a fraction of the samples (sanitizer builds) the means are noisier by sqrt(divisor).
+mean_tol = a.block_tol * divisor ** 0.5
 for spp in spps:
     for c, m in zip("RGB", results[spp]["den"]["mean"]):
-        if abs(m / results[spp]["noisy"]["mean"]["RGB".index(c)] - 1.0) > a.block_tol:
-            print("FAIL: channel %s mean moved by more than %.3f" % (c, a.block_tol)); ok = False
+        if abs(m / results[spp]["noisy"]["mean"]["RGB".index(c)] - 1.0) > mean_tol:
+            print("FAIL: channel %s mean moved by more than %.3f" % (c, mean_tol)); ok = False
 sys.exit(0 if ok else 1)
