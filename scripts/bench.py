@@ -16,6 +16,9 @@ Time against error, measured side by side in one run on this machine:
     process paid before OpenImageIO was opened on first use), instructions of process start and
     of a small part (valgrind), part file bytes per pixel, and the merge time of 16 parts of a
     1920x1080 frame (--only-parts runs this alone);
+  - the denoiser (--denoise; --only-denoise runs this alone): on every scene with its better
+    integrator, at 16, 64 and 256 spp, relMSE of the denoised image against the undenoised one
+    and Cycles' at equal CPU time and at equal spp, and the spp from which it no longer helps;
   - animation (scripts/bench_animation.py): a 120-frame sequence of ~1M static triangles and one
     moving cube against a still, and a 10,000-instance EXT_mesh_gpu_instancing forest's peak
     memory against one tree (--only-animation runs these alone; --frames N for fewer frames).
@@ -40,6 +43,7 @@ ap.add_argument("--markdown", default=os.path.join(ROOT, "docs", "BENCHMARKS.md"
 ap.add_argument("--only-parts", action="store_true", help="only the farm parts' overhead section")
 ap.add_argument("--only-animation", action="store_true", help="only the animation sections (sequence, forest)")
 ap.add_argument("--frames", type=int, default=120, help="frames of the animation sequence benchmark")
+ap.add_argument("--only-denoise", action="store_true", help="only the denoiser's section")
 args = ap.parse_args()
 budgets = [float(b) for b in args.budgets.split(",")]
 veach = os.path.join(args.build, "veach")
@@ -261,6 +265,109 @@ def write_section(begin, end, table):
             open(args.markdown, "w").write(text)
 
 
+# The denoiser, at equal CPU time (user + system seconds of the whole `veach render`, which a
+# shared machine's load does not stretch as it does wall time) and at equal spp. For each spp,
+# one render with --denoise (relMSE of its denoised image and of its Noisy pass, which is the
+# undenoised image bit for bit) and one without (its CPU time). The undenoised image given the
+# denoised render's CPU time would have proportionally more samples: its relMSE is the noisy one
+# scaled by t_plain / t_denoised (relMSE goes as 1/samples; an estimate that flatters it once
+# the reference's own noise dominates). Cycles likewise from one render of 64 samples, its CPU
+# time less Blender's own start (a 1-sample render). "Stops helping": the first spp at which the
+# denoised image is no closer to the reference than the undenoised one at equal spp, and at
+# equal time.
+DENOISE_INTEGRATOR = {"cornell": "pt", "textured": "pt", "lights": "pt", "spheres": "bdpt", "corridor": "bdpt"}
+
+
+def render_denoised(scene, integrator, spp):
+    """relMSE of the denoised and the noisy image of one --denoise render, the render's CPU seconds,
+    its denoise seconds (wall), and the CPU seconds of the same render without --denoise."""
+    import numpy as np
+    import OpenImageIO as oiio
+    meta = json.load(open(os.path.join(SCENES, scene, scene + ".cycles.json")))
+    out = os.path.join(tmp, "%s_denoised.exr" % scene)
+    stats = out + ".json"
+    common = [veach, "render", os.path.join(SCENES, scene, scene + ".gltf"), "--width", str(meta["width"]),
+              "--height", str(meta["height"]), "--spp", str(spp), "--integrator", integrator, "--quiet"]
+    cpu = cpu_seconds([common + ["-o", out, "--denoise", "--passes", "combined,noisy", "--stats-json", stats]])
+    cpu_plain = cpu_seconds([common + ["-o", os.path.join(tmp, "%s_plain.exr" % scene)]])
+    image = oiio.ImageBuf(out)
+    names = list(image.spec().channelnames)
+    pixels = np.asarray(image.get_pixels(oiio.FLOAT), dtype=np.float64)
+    ref = compare.load(os.path.join(SCENES, scene, scene + ".cycles.exr"))
+
+    def layer(name):
+        return pixels[..., [names.index("ViewLayer.%s.%s" % (name, c)) for c in "RGB"]]
+
+    return {"denoised": compare.compare(layer("Combined"), ref)["relmse"],
+            "noisy": compare.compare(layer("Noisy"), ref)["relmse"], "cpu": cpu, "cpu_plain": cpu_plain,
+            "denoise": json.load(open(stats))["seconds"]["denoise"]}
+
+
+CYCLES_SAMPLES_SCRIPT = r'''
+import bpy, sys, os
+sys.path.insert(0, os.environ["VEACH_BLENDER_SCRIPTS"])
+import cycles_setup
+cycles_setup.lambert_materials()
+scene = bpy.context.scene
+cycles_setup.unbiased_cycles(scene, samples=int(os.environ["VEACH_SAMPLES"]), seed=1, time_limit=0.0)
+scene.render.filepath = os.environ["VEACH_OUT"]
+bpy.ops.render.render(write_still=True)
+'''
+
+
+def cycles_at_samples(scene, samples):
+    """Cycles' relMSE at `samples` and the CPU seconds of its render (less Blender's start)."""
+    script = os.path.join(tmp, "cycles_samples.py")
+    open(script, "w").write(CYCLES_SAMPLES_SCRIPT)
+    seconds = {}
+    for n in (1, samples):
+        out = os.path.join(tmp, "%s_cycles_%d.exr" % (scene, n))
+        env = dict(os.environ, VEACH_BLENDER_SCRIPTS=BLENDER_SCRIPTS, VEACH_OUT=out, VEACH_SAMPLES=str(n))
+        seconds[n] = cpu_seconds([["blender", "-b", os.path.join(SCENES, scene, scene + ".blend"), "--factory-startup",
+                                   "-P", script]], env=env)
+    return relmse(out, os.path.join(SCENES, scene, scene + ".cycles.exr")), max(1e-3, seconds[samples] - seconds[1])
+
+
+def denoise_benchmark(spps, with_cycles, cycles_samples=64):
+    lines = ["| scene | integrator | spp | CPU s undenoised | CPU s denoised | denoise s (wall) | relMSE denoised | "
+             "relMSE undenoised, equal spp | undenoised, equal CPU time | undenoised / denoised, equal time | "
+             "Cycles, equal CPU time | Cycles / denoised |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    stop_lines = ["| scene | integrator | noisy / denoised at equal spp (" + ", ".join(str(n) for n in spps) +
+                  " spp) | stops helping, equal spp | stops helping, equal time |", "|---|---|---|---|---|"]
+    for scene, integ in DENOISE_INTEGRATOR.items():
+        if scene not in args.scenes.split(","):
+            continue
+        cycles = cycles_at_samples(scene, cycles_samples) if with_cycles else None
+        ratios, stop_spp, stop_time = [], None, None
+        for n in spps:
+            r = render_denoised(scene, integ, n)
+            equal_time = r["noisy"] * r["cpu_plain"] / r["cpu"]
+            c = cycles[0] * cycles[1] / r["cpu"] if cycles else None
+            lines.append("| %s | %s | %d | %.2f | %.2f | %.2f | %.4g | %.4g | %.4g | %.2fx | %s | %s |" % (
+                scene, integ, n, r["cpu_plain"], r["cpu"], r["denoise"], r["denoised"], r["noisy"], equal_time,
+                equal_time / r["denoised"], "%.4g" % c if c else "", "%.2fx" % (c / r["denoised"]) if c else ""))
+            print(lines[-1], file=sys.stderr)
+            ratios.append(r["noisy"] / r["denoised"])
+            if stop_spp is None and r["denoised"] >= r["noisy"]:
+                stop_spp = n
+            if stop_time is None and r["denoised"] >= equal_time:
+                stop_time = n
+        beyond = "beyond %d spp" % spps[-1]
+        stop_lines.append("| %s | %s | %s | %s | %s |" % (
+            scene, integ, " / ".join("%.2fx" % x for x in ratios), "%d spp" % stop_spp if stop_spp else beyond,
+            "%d spp" % stop_time if stop_time else beyond))
+        print(stop_lines[-1], file=sys.stderr)
+    return "\n".join(lines + [""] + stop_lines)
+
+
+if args.only_denoise:
+    denoise_table = denoise_benchmark([16, 64, 256], not args.no_cycles and shutil.which("blender") is not None)
+    print(denoise_table)
+    write_section("<!-- DENOISE:BEGIN -->", "<!-- DENOISE:END -->", denoise_table)
+    shutil.rmtree(tmp, ignore_errors=True)
+    sys.exit(0)
+
 # Animation (scripts/bench_animation.py): a sequence's seconds per frame against a still, and an
 # EXT_mesh_gpu_instancing forest's memory against one tree.
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -276,6 +383,11 @@ if args.only_animation or not args.only_parts:
     if args.only_animation:
         shutil.rmtree(tmp, ignore_errors=True)
         sys.exit(0)
+
+if not args.only_parts:
+    denoise_table = denoise_benchmark([16, 64, 256], not args.no_cycles and shutil.which("blender") is not None)
+    print(denoise_table)
+    write_section("<!-- DENOISE:BEGIN -->", "<!-- DENOISE:END -->", denoise_table)
 
 parts_table = parts_overhead()
 print(parts_table)

@@ -63,9 +63,12 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
                          + 4 * sizeof(float);                          // the encoded output
     if (options.film.aovs) per_pixel += 8 * sizeof(double) + 7 * sizeof(float);
     if (options.film.alpha) per_pixel += sizeof(double);
-    // The halves and features (film.h), and what the denoiser allocates with the halves resolved.
+    // The halves and features (film.h: odd sums and weight, odd splats, feature sums: 112 bytes;
+    // the odd pilot splats with a plan), and while denoising the resolved halves and features
+    // (5 x 3 + 1 floats), the noisy copy and the variance (2 x 3) and the denoiser's own.
     if (options.denoise)
-        per_pixel += (4 + 3 + 3) * sizeof(double) + 8 * sizeof(float) + (3 * 4 + 1) * sizeof(float) +
+        per_pixel += (4 + 3 + 3) * sizeof(double) + 8 * sizeof(float) +
+                     (options.render.noise_target != 0 ? 3 * sizeof(double) : 0) + (5 * 3 + 1 + 2 * 3) * sizeof(float) +
                      denoise_scratch_bytes(1, 1);
     if (options.checkpoint.write)
         per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0) + (options.film.alpha ? 1 : 0)) * sizeof(double);
