@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -128,6 +129,29 @@ TEST(Denoise, RemovesMostOfTheErrorAndKeepsTextureEdgesAndMeans) {
             step_out += std::fabs(r.rgb[l] - r.rgb[rr]);
         }
     EXPECT_NEAR(step_out / step_truth, 1.0, 0.1);
+}
+
+// Images smaller than the window and the patches: every value finite and within the range of
+// the halves (a fit never leaves the colours it saw).
+TEST(Denoise, TinyImagesStayWithinTheirValues) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 2.0f);
+    for (auto [w, h] : {std::pair{1, 1}, {2, 1}, {1, 5}, {3, 2}}) {
+        const size_t n = static_cast<size_t>(w) * h * 3;
+        std::vector<float> a(n), b(n), f(n);
+        for (size_t i = 0; i < n; ++i) a[i] = u(rng), b[i] = u(rng), f[i] = u(rng);
+        DenoiseInput in;
+        in.width = w, in.height = h, in.half_a = a.data(), in.half_b = b.data();
+        in.albedo = f.data(), in.normal = f.data(), in.position = f.data();
+        const DenoiseResult r = denoise(in);
+        const float lo = std::min(*std::min_element(a.begin(), a.end()), *std::min_element(b.begin(), b.end()));
+        const float hi = std::max(*std::max_element(a.begin(), a.end()), *std::max_element(b.begin(), b.end()));
+        for (float v : r.rgb) {
+            ASSERT_TRUE(std::isfinite(v)) << w << "x" << h;
+            EXPECT_GE(v, lo);
+            EXPECT_LE(v, hi);
+        }
+    }
 }
 
 TEST(Denoise, RefusesAMissingHalf) {
