@@ -136,6 +136,20 @@ TEST(FilmHalves, ADenoisedRenderKeepsTheNoisyImageAndTheFeatures) {
     EXPECT_GT(r.denoise_seconds, 0.0);
 }
 
+// A denoised render is a pure function of the render: pt's images are the same bit for bit on 1
+// and 2 threads, and so are their denoised images.
+TEST(FilmHalves, ADenoisedRenderIsTheSameAtAnyThreadCount) {
+    RenderJobOptions o = options(40, 6, "pt");
+    o.denoise = true;
+    o.render.threads = 1;
+    const RenderResult one = render_scene(cornell(), o);
+    o.render.threads = 2;
+    const RenderResult two = render_scene(cornell(), o);
+    ASSERT_EQ(one.image.rgba.size(), two.image.rgba.size());
+    EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), two.image.rgba.data(), one.image.rgba.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(one.image.noisy.data(), two.image.noisy.data(), one.image.noisy.size() * sizeof(float)));
+}
+
 TEST(FilmHalves, DenoisingRefusesParts) {
     RenderJobOptions o = options(16, 8, "pt");
     o.denoise = true;
