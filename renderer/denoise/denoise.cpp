@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "denoise/weighted_regression.h"
@@ -95,9 +96,20 @@ DenoiseResult denoise(const DenoiseInput& in, const DenoiseSettings& settings) {
         fit_b[c].resize(n * 3);
     }
     const int strips = (h + k_strip_rows - 1) / k_strip_rows;
-    tbb::parallel_for(tbb::blocked_range<int>(0, strips, 1), [&](const tbb::blocked_range<int>& range) {
-        PatchDistances from_a(w, h, radius, patch), from_b(w, h, radius, patch);
+    // Scratch kept per thread: a strip's distances are megabytes, allocated (and the pages
+    // faulted in) once per thread rather than once per strip. It holds no result.
+    struct Scratch {
+        PatchDistances from_a, from_b;
         WindowRegression regression;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch([&] {
+        return Scratch{PatchDistances(w, h, radius, patch), PatchDistances(w, h, radius, patch), {}};
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(0, strips, 1), [&](const tbb::blocked_range<int>& range) {
+        Scratch& local = scratch.local();
+        PatchDistances& from_a = local.from_a;
+        PatchDistances& from_b = local.from_b;
+        WindowRegression& regression = local.regression;
         for (int strip = range.begin(); strip < range.end(); ++strip) {
             const int y0 = strip * k_strip_rows, y1 = std::min(h, y0 + k_strip_rows);
             from_a.compute(a.data(), var.data(), y0, y1);
