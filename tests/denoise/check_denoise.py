@@ -94,7 +94,7 @@ for spp in spps:
     ratio = (noisy - floor) / max(den - floor, 1e-12)
     print("%s %s %d spp: relMSE noisy %.5f denoised %.5f (reference's share %.5f): %.1fx lower; "
           "blocks further from the reference than the noisy ones by at most %.4f (32x32); edge contrast %.3f; "
-          "render %.2fs denoise %.2fs" % (a.scene, a.integrator, spp, noisy, den, floor, ratio, r["blocks"],
+          "render %.2fs denoise %.2fs" % (a.scene, a.integrator, max(2, spp // divisor), noisy, den, floor, ratio, r["blocks"],
                                          r["edges"], r["render"], r["denoise"]))
     if r["den"]["nonfinite"]:
         print("FAIL: non-finite values in the denoised image"); ok = False
