@@ -4,7 +4,8 @@
 What must hold (the promise is exactness, so these comparisons are exact where it says so):
 - Sample-range parts (--samples A:B -o X.vpart) of a path-traced render merge into the single
   render bit for bit; bdpt and lt parts agree to the summation order of their splats (relative
-  1e-6). A 2x2 tile split (--pixelbounds) likewise, and tiles crossed with sample ranges.
+  1e-6). A 2x2 tile split (--pixelbounds) likewise for each of the three (each bdpt or lt tile
+  keeps its light paths' splats over the whole frame), and tiles crossed with sample ranges.
 - A merge may write a .vpart again, and merging that with the rest is the same image; it writes
   any format a render writes, several at once (an EXR and a PNG equal to the single render's).
 - The merged image says spp = the samples merged, complete when they are all of --spp.
@@ -104,8 +105,6 @@ def main():
                 check(spec.get_string_attribute("veach:spp") == str(SPP), f"{integrator}: merged veach:spp")
                 check(spec.get_string_attribute("veach:complete") == "yes", f"{integrator}: merged not complete")
                 check(spec.get_string_attribute("veach:integrator") == integrator, f"{integrator}: integrator tag")
-            if integrator == "lt":
-                continue
             tile_parts = []
             for x0, x1, y0, y1 in tiles:
                 p = os.path.join(tmp, f"tile_{integrator}_{x0}_{y0}.vpart")
