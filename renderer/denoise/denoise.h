@@ -7,7 +7,8 @@
 //    estimated without a reference.
 //  - Each pixel's value is a weighted first-order regression over a window of its neighbours on
 //    the features (albedo, normal, world position): a texture or a shading gradient that the
-//    features explain is fitted, not averaged away.
+//    features explain is fitted, not averaged away. A fit is kept within the colours it leaned
+//    on (weight over 0.1): at an edge no feature explains, a line may overshoot; the data do not.
 //  - The regression weights come from colour alone (non-local means on patches), computed on the
 //    other half: half A is fitted with weights from B and B with weights from A, so the weights
 //    are not tuned to the very noise they average.
