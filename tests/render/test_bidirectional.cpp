@@ -249,7 +249,11 @@ TEST(BidirectionalVolume, AbsorbingRoughGlassBlockAgreesAcrossIntegrators) {
     EXPECT_EQ(stats.nonfinite_samples, 0u);
     Image bdpt = test::render(s, size, test::spp(1024), "bdpt", 32, 0, 62, &stats);
     EXPECT_EQ(stats.nonfinite_samples, 0u);
-    Image lt = test::render(s, size, test::spp(4096), "lt", 32, 0, 63, &stats);
+    // Light tracing keeps at least 2048 samples in a sanitizer build (which divides the counts by
+    // 8 and widens the bounds by sqrt(8)): at 512 its worst of the four blocks once reached 8.8%
+    // against pt, past the widened 8.5%; its heavy tail needs more than the square-root rule.
+    const int lt_spp = std::max(test::spp(4096), 2048);
+    Image lt = test::render(s, size, lt_spp, "lt", 32, 0, 63, &stats);
     EXPECT_EQ(stats.nonfinite_samples, 0u);
     expect_agree(bdpt, pt, 16, 0.01, 0.03, "bdpt vs pt");
     // (Light tracing reaches the camera through the block only by connecting a particle on its
