@@ -28,6 +28,9 @@ def lambert_materials():
             tree.links.new(color.links[0].from_socket, diffuse.inputs["Color"])
         else:
             diffuse.inputs["Color"].default_value = color.default_value
+        normal = principled.inputs["Normal"]
+        if normal.is_linked:  # a Normal Map node: the diffuse surface keeps it
+            tree.links.new(normal.links[0].from_socket, diffuse.inputs["Normal"])
         surface = diffuse.outputs[0]
         strength = principled.inputs["Emission Strength"].default_value
         if strength > 0.0:

@@ -117,10 +117,10 @@ def _absorbing_volume(tree, color, density):
     settings.inputs["Thickness"].default_value = 1.0
 
 
-def lambert(name, color, *, image=None):
+def lambert(name, color, *, image=None, normal_image=None):
     """A purely diffuse material (tagged "lambert": exactly Lambertian in glTF and in the Cycles
-    reference)."""
-    mat = principled(name, color, roughness=1.0, specular=0.0, base_color_image=image)
+    reference), optionally with a tangent-space normal map (a Non-Color image, strength 1)."""
+    mat = principled(name, color, roughness=1.0, specular=0.0, base_color_image=image, normal_image=normal_image)
     mat["lambert"] = True
     return mat
 
