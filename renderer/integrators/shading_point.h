@@ -50,7 +50,8 @@ struct ShadingPoint {
     }
     // wo: the unit direction back along the arriving ray.
     SurfaceBsdf bsdf(const RenderScene& rs, const Vec3& wo) const {
-        return SurfaceBsdf(hit.ng, hit.ns, wo, inputs(rs), hit.ns_coat);
+        if (!hit.normal_mapped) return SurfaceBsdf(hit.ng, hit.ns, wo, inputs(rs), hit.ns_coat);
+        return SurfaceBsdf(SurfaceBsdf::NormalMapped{}, hit.ng, hit.ns_vertex, hit.ns, wo, inputs(rs), hit.ns_coat);
     }
 };
 

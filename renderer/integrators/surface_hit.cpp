@@ -173,10 +173,13 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const RayHit& hit, float foot
     if (footprint_width > 0.0f) set_uv_footprint(mesh, idx, p0, p1, p2, footprint_width, &s.attr);
     bool has_tangents = mesh.tangents.size() == mesh.positions.size();
     const Material& mat = *s.material;
-    Vec3 ns_vertex = s.ns;
-    if (mat.normal_texture.valid() && has_tangents)
+    const Vec3 ns_vertex = s.ns;
+    if (mat.normal_texture.valid() && has_tangents) {
         s.ns = apply_normal_map(rs, mat.normal_texture, mat.normal_scale, mesh, at, idx, b0, b1, b2, s.attr, s.ng,
                                 s.ns);
+        s.ns_vertex = ns_vertex;
+        s.normal_mapped = true;
+    }
     // KHR_materials_clearcoat: the coat has its own normal map, and without one it is *not*
     // normal-mapped like the base (the extension's wording): the vertex normal. Zero when the
     // coat's normal is the base's, so the BSDF keeps its untilted path.

@@ -14,13 +14,15 @@ struct SurfaceHit {
     Vec3 p;        // world position, from barycentrics of the world-space vertices
     Vec3 p_error;  // per-axis bound on |p - true p|
     Vec3 ng;       // unit geometric normal (from the winding; not flipped toward the ray)
-    Vec3 ns;       // unit shading normal, on the same side as ng
+    Vec3 ns;       // unit shading normal, on the same side as ng (the normal map's, if any)
+    Vec3 ns_vertex;  // with a normal map (normal_mapped): the vertex normal it tilts, same side
     Vec3 ns_coat;  // the clearcoat's shading normal (KHR_materials_clearcoat), same side; zero: ns
     SurfaceAttributes attr;
     const Material* material = nullptr;
     uint32_t instance = 0, prim = 0;
     float b1 = 0, b2 = 0;      // barycentrics
     bool thin_walled = false;  // RenderScene::thin_walled of the mesh
+    bool normal_mapped = false;  // ns comes from the material's normal map
 };
 
 // Fills a SurfaceHit from an Embree hit. `footprint_width` is the width of the ray's cone where it

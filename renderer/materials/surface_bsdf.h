@@ -6,14 +6,24 @@
 // the particle arrived from) the adjoint carries the factor |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|),
 // without which light tracing disagrees with path tracing on every smooth-shaded mesh.
 //
+// A normal map on an opaque material is not a shading frame: ns stays the vertex normal and the
+// mapped normal becomes a facet of a microsurface (normal_map_microsurface.h), whose BSDF is
+// reciprocal and conserves energy, so the adjoint factor is the vertex normal's alone (1 on flat
+// geometry) and light tracing's weights stay bounded. Transmissive materials keep the mapped
+// normal as their frame.
+//
 // Reflection and transmission are told apart by the geometric normal: wi on wo's side of the
 // surface is a reflection, wi on the other side a transmission (only transmissive materials
 // have one). A direction whose side by the shading normal disagrees with its side by the
 // geometric normal gets nothing: that is how light would leak through a smooth-shaded surface.
 #pragma once
 
+#include <optional>
+
 #include "core/math.h"
+#include "core/rng.h"
 #include "materials/gltf_bsdf.h"
+#include "materials/normal_map_microsurface.h"
 #include "materials/transport_mode.h"
 
 namespace veach {
@@ -35,18 +45,14 @@ public:
         float side = dot(wo, ng) < 0.0f ? -1.0f : 1.0f;
         m_entering = side > 0.0f;
         m_ng = ng * side;
-        Vec3 n = ns * side;
-        // The frame depends on the surface point and the side only, never on wo: a frame chosen
-        // per viewing direction (e.g. falling back to ng when wo is below ns) would make the
-        // BSDF non-reciprocal, and light tracing would then disagree with path tracing at the
-        // terminator of every smooth low-poly mesh. Directions below ns see a black BSDF.
-        m_frame = Frame(n);
-        // Integrators ask about this wo again and again (light sample, MIS density, sampling):
-        // the BSDF computes what depends on it once.
-        if (in.clearcoat > 0.0f && (ns_coat.x != 0.0f || ns_coat.y != 0.0f || ns_coat.z != 0.0f))
-            m_bsdf.set_coat_normal(m_frame.to_local(ns_coat * side));
-        m_bsdf.set_outgoing(m_frame.to_local(wo));
+        face(ns * side, wo, in, ns_coat, side);
     }
+    // With a normal map: ns is the vertex normal and n_map the mapped normal (SurfaceHit's
+    // ns_vertex and ns). An opaque material sits on the mapped facet of the microsurface; a
+    // transmissive one takes the mapped normal as its frame.
+    struct NormalMapped {};
+    SurfaceBsdf(NormalMapped, const Vec3& ng, const Vec3& ns, const Vec3& n_map, const Vec3& wo,
+                const ShadingInputs& in, const Vec3& ns_coat = Vec3(0.0f, 0.0f, 0.0f));
 
     const Vec3& geometric_normal() const { return m_ng; }  // on wo's side
     const Vec3& shading_normal() const { return m_frame.n; }
@@ -68,7 +74,8 @@ public:
     Rgb eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
         if (!consistent(wo, lo) || !consistent(wi, li)) return Rgb(0.0f);
-        Rgb f = m_bsdf.eval(lo, li, mode) * std::fabs(li.z);
+        Rgb f = m_micro ? m_micro->eval(m_bsdf, lo, li, direction_key(li), mode)
+                        : m_bsdf.eval(lo, li, mode) * std::fabs(li.z);
         if (mode == TransportMode::Importance) f *= importance_correction(wo, wi, lo.z, li.z);
         return f;
     }
@@ -76,13 +83,18 @@ public:
     float pdf_w(const Vec3& wo, const Vec3& wi) const {
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
         if (!consistent(wo, lo) || !consistent(wi, li)) return 0.0f;
-        return m_bsdf.pdf_w(lo, li);
+        return m_micro ? m_micro->pdf_w(m_bsdf, lo, li) : m_bsdf.pdf_w(lo, li);
     }
     // Samples wi. For non-delta lobes weight = eval / pdf.
     bool sample(const Vec3& wo, float u_lobe, float u1, float u2, TransportMode mode, BsdfSample* out) const {
         Vec3 lo = m_frame.to_local(wo);
         BsdfSample ls;
-        if (!m_bsdf.sample(lo, u_lobe, u1, u2, &ls, mode)) return false;
+        if (m_micro) {
+            uint64_t key = direction_key(Vec3(u_lobe, u1, u2)) ^ 0x5bd1e9955bd1e995ull;
+            if (!m_micro->sample(m_bsdf, lo, u_lobe, u1, u2, key, mode, &ls)) return false;
+        } else if (!m_bsdf.sample(lo, u_lobe, u1, u2, &ls, mode)) {
+            return false;
+        }
         out->wi = m_frame.to_world(ls.wi);
         if (!consistent(out->wi, ls.wi)) return false;
         out->pdf_w = ls.pdf_w;
@@ -94,6 +106,26 @@ public:
     bool is_pure_delta() const { return m_bsdf.is_pure_delta(); }
 
 private:
+    // The shading frame about n (on wo's side) and what depends on wo; ns_coat as given to the
+    // constructor, turned to wo's side by `side`.
+    void face(const Vec3& n, const Vec3& wo, const ShadingInputs& in, const Vec3& ns_coat, float side) {
+        // The frame depends on the surface point and the side only, never on wo: a frame chosen
+        // per viewing direction (e.g. falling back to ng when wo is below ns) would make the
+        // BSDF non-reciprocal, and light tracing would then disagree with path tracing at the
+        // terminator of every smooth low-poly mesh. Directions below ns see a black BSDF.
+        m_frame = Frame(n);
+        // Integrators ask about this wo again and again (light sample, MIS density, sampling):
+        // the BSDF computes what depends on it once.
+        if (in.clearcoat > 0.0f && (ns_coat.x != 0.0f || ns_coat.y != 0.0f || ns_coat.z != 0.0f))
+            m_bsdf.set_coat_normal(m_frame.to_local(ns_coat * side));
+        m_bsdf.set_outgoing(m_frame.to_local(wo));
+    }
+    // The normal map's microsurface on the vertex normal n (on wo's side), the mapped normal
+    // n_map and the coat's normal (zero: the base's) on the same side. False when the mapped
+    // normal is the vertex normal: the plain BSDF applies.
+    bool place_on_microsurface(const Vec3& n, const Vec3& wo, const ShadingInputs& in, const Vec3& ns_coat,
+                               const Vec3& n_map);
+
     static ShadingInputs black_inputs() {
         ShadingInputs in;
         in.base_color = Rgb(0.0f);
@@ -107,6 +139,12 @@ private:
         return den > 0.0f ? num / den : 0.0f;
     }
 
+    // The key of a random walk: the microsurface's (its wo) with a direction's bits.
+    uint64_t direction_key(const Vec3& w) const {
+        return mix64(m_micro->key() ^ (uint64_t(float_bits(w.x)) << 32 | float_bits(w.y)) ^
+                     uint64_t(float_bits(w.z)) << 16);
+    }
+
     // The same side of the surface by the geometric and by the shading normal (local z).
     bool consistent(const Vec3& w, const Vec3& local) const {
         float g = dot(w, m_ng);
@@ -116,6 +154,7 @@ private:
     Vec3 m_ng;
     Frame m_frame;
     GltfBsdf m_bsdf;
+    std::optional<NormalMapMicrosurface> m_micro;  // a normal map on an opaque material
     bool m_thin = false;  // a thin wall: air on both sides, no medium entered
     bool m_entering = true;
 };

@@ -408,54 +408,6 @@ TEST(BidirectionalTextureLod, TexturedRoughMetalUnderSkyPtEqualsBdpt) {
     expect_agree(bdpt, pt, 8, 0.01, 0.05, "bdpt vs pt");
 }
 
-// A Lambertian quad (albedo 0.8) with a strong normal map, grooves tilted +-60 degrees every four
-// texels, filling the view in a uniform environment of 0.2: every strategy sees the mapped
-// normal through the same shading-normal rules (side tests, Veach's adjoint correction in
-// importance mode). pt gives 0.8 x 0.2 x 0.75 = 0.12 (the cosine-weighted share of the directions
-// above both normals, (1 + cos 60)/2; measured 0.1199), bdpt must agree: means within 1%, 8x8
-// blocks within 3%. Light tracing alone is left out: Veach's adjoint correction weighs a particle
-// by |wo.ns| / |wo.ng|, unbounded for particles grazing the quad, which an environment sends (a
-// sun does not), with density proportional to |wo.ng|: the second moment integrates
-// |wo.ns|^2 / |wo.ng| and diverges, and lt's mean wanders by several percent between seeds.
-TEST(BidirectionalShadingNormals, NormalMappedQuadUnderEnvironment) {
-    Scene s;
-    Mesh quad = test::make_quad(4.0f, Vec3(0, 0, -1));
-    quad.uv0 = {{0, 1}, {4, 1}, {4, 0}, {0, 0}};
-    quad.normals.assign(4, Vec3(0, 0, 1));
-    quad.tangents.assign(4, Vec3(1, 0, 0));
-    quad.tangent_signs.assign(4, 1.0f);
-    quad.material = 0;
-    s.meshes.push_back(quad);
-    Material mat = test::lambert(Rgb(0.8f));
-    mat.normal_texture.texture = 0;
-    s.materials.push_back(mat);
-    Texture grooves;
-    grooves.name = "grooves";
-    grooves.width = 64;
-    grooves.height = 4;
-    grooves.nearest = true;
-    const float sn = std::sin(60.0f * k_pi / 180.0f), cn = std::cos(60.0f * k_pi / 180.0f);
-    for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 64; ++x) {
-            float sx = (x / 4) % 2 == 0 ? sn : -sn;
-            grooves.texels.insert(grooves.texels.end(), {(sx + 1) / 2, 0.5f, (cn + 1) / 2, 1.0f});
-        }
-    s.textures.push_back(grooves);
-    s.instances.push_back({0, Transform()});
-    s.cameras.push_back(test::camera_at(Vec3(0, 0, 0), 0.5f));
-    s.environment.enabled = true;
-    s.environment.color = Rgb(0.2f);
-    s.features.environment = true;
-    s.features.normal_maps = true;
-    RenderStats stats;
-    Image pt = test::render(s, 16, test::spp(1024), "pt", 8, 0, 51, &stats);
-    EXPECT_EQ(stats.nonfinite_samples, 0u);
-    Image bdpt = test::render(s, 16, test::spp(512), "bdpt", 8, 0, 52, &stats);
-    EXPECT_EQ(stats.nonfinite_samples, 0u);
-    EXPECT_NEAR(test::channel_mean(pt, 1), 0.12, test::tol(0.0012));
-    expect_agree(bdpt, pt, 8, 0.01, 0.03, "bdpt vs pt");
-}
-
 // Environment-lit scenes where light tracing is compared with path tracing and with the closed
 // form: a square of side `size` in the plane y = 0 facing up, seen straight down from (0, 1, 0)
 // through a 0.5 rad field of view (0.51 across at the square). The scene's bounding sphere is
