@@ -46,9 +46,6 @@ public:
     bool active() const { return m_active; }
     // The perturbed facet's frame in the macro frame: fp's directions are p().to_local(w).
     const Frame& p() const { return m_p; }
-    // What keys the random walks of one BSDF (SurfaceBsdf sets it from wo's bits).
-    uint64_t key() const { return m_key; }
-    void set_key(uint64_t key) { m_key = key; }
 
     // f(wo, wi) wi.z of the microsurface, estimated by a random walk keyed by `key` (the same key
     // and directions give the same estimate).
@@ -80,7 +77,6 @@ private:
     Frame m_p;
     Vec3 m_wp{0.0f, 0.0f, 1.0f}, m_wt{1.0f, 0.0f, 0.0f};
     float m_sin_p = 0.0f;
-    uint64_t m_key = 0;
     bool m_active = false;
 };
 

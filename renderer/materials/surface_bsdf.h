@@ -18,8 +18,6 @@
 // geometric normal gets nothing: that is how light would leak through a smooth-shaded surface.
 #pragma once
 
-#include <optional>
-
 #include "core/math.h"
 #include "core/rng.h"
 #include "materials/gltf_bsdf.h"
@@ -74,8 +72,8 @@ public:
     Rgb eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
         if (!consistent(wo, lo) || !consistent(wi, li)) return Rgb(0.0f);
-        Rgb f = m_micro ? m_micro->eval(m_bsdf, lo, li, direction_key(li), mode)
-                        : m_bsdf.eval(lo, li, mode) * std::fabs(li.z);
+        Rgb f = m_mapped ? microsurface().eval(m_bsdf, lo, li, direction_key(li), mode)
+                         : m_bsdf.eval(lo, li, mode) * std::fabs(li.z);
         if (mode == TransportMode::Importance) f *= importance_correction(wo, wi, lo.z, li.z);
         return f;
     }
@@ -83,15 +81,15 @@ public:
     float pdf_w(const Vec3& wo, const Vec3& wi) const {
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
         if (!consistent(wo, lo) || !consistent(wi, li)) return 0.0f;
-        return m_micro ? m_micro->pdf_w(m_bsdf, lo, li) : m_bsdf.pdf_w(lo, li);
+        return m_mapped ? microsurface().pdf_w(m_bsdf, lo, li) : m_bsdf.pdf_w(lo, li);
     }
     // Samples wi. For non-delta lobes weight = eval / pdf.
     bool sample(const Vec3& wo, float u_lobe, float u1, float u2, TransportMode mode, BsdfSample* out) const {
         Vec3 lo = m_frame.to_local(wo);
         BsdfSample ls;
-        if (m_micro) {
+        if (m_mapped) {
             uint64_t key = direction_key(Vec3(u_lobe, u1, u2)) ^ 0x5bd1e9955bd1e995ull;
-            if (!m_micro->sample(m_bsdf, lo, u_lobe, u1, u2, key, mode, &ls)) return false;
+            if (!microsurface().sample(m_bsdf, lo, u_lobe, u1, u2, key, mode, &ls)) return false;
         } else if (!m_bsdf.sample(lo, u_lobe, u1, u2, &ls, mode)) {
             return false;
         }
@@ -125,6 +123,7 @@ private:
     // normal is the vertex normal: the plain BSDF applies.
     bool place_on_microsurface(const Vec3& n, const Vec3& wo, const ShadingInputs& in, const Vec3& ns_coat,
                                const Vec3& n_map);
+    NormalMapMicrosurface microsurface() const { return NormalMapMicrosurface(Vec3(m_map[0], m_map[1], m_map[2])); }
 
     static ShadingInputs black_inputs() {
         ShadingInputs in;
@@ -139,10 +138,9 @@ private:
         return den > 0.0f ? num / den : 0.0f;
     }
 
-    // The key of a random walk: the microsurface's (its wo) with a direction's bits.
+    // The key of a random walk: this BSDF's (its wo's bits) with a direction's bits.
     uint64_t direction_key(const Vec3& w) const {
-        return mix64(m_micro->key() ^ (uint64_t(float_bits(w.x)) << 32 | float_bits(w.y)) ^
-                     uint64_t(float_bits(w.z)) << 16);
+        return mix64(m_key ^ (uint64_t(float_bits(w.x)) << 32 | float_bits(w.y)) ^ uint64_t(float_bits(w.z)) << 16);
     }
 
     // The same side of the surface by the geometric and by the shading normal (local z).
@@ -154,9 +152,14 @@ private:
     Vec3 m_ng;
     Frame m_frame;
     GltfBsdf m_bsdf;
-    std::optional<NormalMapMicrosurface> m_micro;  // a normal map on an opaque material
+    // A normal map on an opaque material: the mapped normal in the frame, as given to
+    // NormalMapMicrosurface (rebuilt by each query, which keeps the BSDF small for the integrators
+    // that store one per path vertex), and the key of its random walks. Set only when m_mapped.
+    float m_map[3] = {0.0f, 0.0f, 1.0f};
+    uint64_t m_key = 0;
     bool m_thin = false;  // a thin wall: air on both sides, no medium entered
     bool m_entering = true;
+    bool m_mapped = false;
 };
 
 }  // namespace veach
