@@ -243,12 +243,15 @@ BlockEstimate block_estimate(const Scene& s, const std::string& integrator, int 
     return e;
 }
 
-// |z| of every block mean and the image mean of `b` against `a` below 4 (17 tests per pair, three
-// pairs per scene: a false alarm about once in 300 runs of the whole suite).
+// |z| of every block mean and the image mean of `b` against `a` below 4.5. The standard errors
+// come from the runs themselves, so z follows Student's t (about 46 degrees of freedom for two
+// sets of 24 runs), not a normal: 238 such tests in this file give a false alarm about once in 90
+// runs of the suite. (Six runs and a bound of 4 failed about every other run: 5 degrees of
+// freedom per side make |z| > 4 forty times likelier than a normal says.)
 void expect_same_image(const BlockEstimate& a, const BlockEstimate& b, const std::string& what) {
     for (size_t k = 0; k < a.mean.size(); ++k) {
         const double z = (a.mean[k] - b.mean[k]) / std::sqrt(a.se[k] * a.se[k] + b.se[k] * b.se[k] + 1e-14);
-        EXPECT_LT(std::fabs(z), 4.0) << what << (k + 1 == a.mean.size() ? " image" : " block ") << k << ": "
+        EXPECT_LT(std::fabs(z), 4.5) << what << (k + 1 == a.mean.size() ? " image" : " block ") << k << ": "
                                      << a.mean[k] << " vs " << b.mean[k];
     }
 }
@@ -269,10 +272,10 @@ TEST_P(NormalMapTransport, PtBdptAndLtAgree) {
         case Lighting::Sun: sun(&s); break;
         case Lighting::EmissiveSquare: emissive_square(&s); break;
     }
-    const int runs = 6;
-    BlockEstimate pt = block_estimate(s, "pt", test::spp(128), runs, 100);
-    BlockEstimate bdpt = block_estimate(s, "bdpt", test::spp(64), runs, 200);
-    BlockEstimate lt = block_estimate(s, "lt", test::spp(512), runs, 300);
+    const int runs = 24;
+    BlockEstimate pt = block_estimate(s, "pt", test::spp(32), runs, 100);
+    BlockEstimate bdpt = block_estimate(s, "bdpt", test::spp(16), runs, 200);
+    BlockEstimate lt = block_estimate(s, "lt", test::spp(128), runs, 300);
     EXPECT_GT(pt.mean.back(), 0.01);
     expect_same_image(pt, bdpt, "bdpt vs pt");
     expect_same_image(pt, lt, "lt vs pt");
@@ -349,10 +352,10 @@ TEST(NormalMapTransport, TexturedRoughMetalUnderAnEnvironmentMap) {
     s.materials[0].base_color_texture.texture = static_cast<int>(s.textures.size());
     s.textures.push_back(base);
     environment_map(&s);
-    const int runs = 6;
-    BlockEstimate pt = block_estimate(s, "pt", test::spp(128), runs, 400);
-    BlockEstimate bdpt = block_estimate(s, "bdpt", test::spp(64), runs, 500);
-    BlockEstimate lt = block_estimate(s, "lt", test::spp(512), runs, 600);
+    const int runs = 24;
+    BlockEstimate pt = block_estimate(s, "pt", test::spp(32), runs, 400);
+    BlockEstimate bdpt = block_estimate(s, "bdpt", test::spp(16), runs, 500);
+    BlockEstimate lt = block_estimate(s, "lt", test::spp(128), runs, 600);
     EXPECT_GT(pt.mean.back(), 0.01);
     expect_same_image(pt, bdpt, "bdpt vs pt");
     expect_same_image(pt, lt, "lt vs pt");
