@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """bench.py --build DIR [--budgets 2,4,8] [--scenes a,b] [--no-cycles] [--markdown docs/BENCHMARKS.md]
+         [--only-integrators | --only-parts | --only-animation | --only-denoise]
 
 Time against error, measured side by side in one run on this machine:
-  - for every scene in tests/data/scenes, `veach render --time T` with pt and bdpt at each budget:
-    relMSE against the Cycles reference (tests/tools/image_compare.py), efficiency
-    1/(relMSE x seconds), samples/s and rays/s;
+  - for every scene in tests/data/scenes, `veach render --time T` with pt, bdpt (every strategy)
+    and auto (the default: the strategies each scene needs) at each budget: relMSE against the
+    Cycles reference (tests/tools/image_compare.py), efficiency 1/(relMSE x seconds), samples/s
+    and rays/s; auto's efficiency over the better of pt and bdpt, and what it chose;
   - the ray-tracing limit: incoherent closest-hit rays/s that Embree alone traces through the same
     BVH on all threads (veach_ray_bench), and the renderer's rays/s as a fraction of it;
   - Cycles at equal render time when Blender is installed (the reference settings of
@@ -37,11 +39,13 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--build", default=os.path.join(ROOT, "build"))
 ap.add_argument("--budgets", default="2,4,8")
 ap.add_argument("--scenes", default="cornell,textured,lights,spheres,corridor")
-ap.add_argument("--integrators", default="pt,bdpt")
+ap.add_argument("--integrators", default="pt,bdpt,auto")
 ap.add_argument("--no-cycles", action="store_true")
 ap.add_argument("--markdown", default=os.path.join(ROOT, "docs", "BENCHMARKS.md"))
 ap.add_argument("--only-parts", action="store_true", help="only the farm parts' overhead section")
 ap.add_argument("--only-animation", action="store_true", help="only the animation sections (sequence, forest)")
+ap.add_argument("--only-integrators", action="store_true",
+                help="only the time-against-error section (pt, bdpt, auto, Cycles on the scenes)")
 ap.add_argument("--frames", type=int, default=120, help="frames of the animation sequence benchmark")
 ap.add_argument("--only-denoise", action="store_true", help="only the denoiser's section")
 args = ap.parse_args()
@@ -85,7 +89,8 @@ def render_veach(scene, integrator, seconds, threads=0, spp=1 << 24, sampler="so
     e = relmse(out, ref)
     t = s["seconds"]["render"]
     return {"seconds": t, "relmse": e, "efficiency": 1.0 / (e * t), "spp": s["spp"],
-            "samples_per_second": s["samples_per_second"], "rays_per_second": s["rays_per_second"]}
+            "samples_per_second": s["samples_per_second"], "rays_per_second": s["rays_per_second"],
+            "strategies": s.get("strategies", "")}
 
 
 def render_cycles(scene, seconds):
@@ -377,7 +382,7 @@ if args.only_denoise:
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench_animation  # noqa: E402
 
-if args.only_animation or not args.only_parts:
+if args.only_animation or not (args.only_parts or args.only_integrators):
     sequence_table = bench_animation.sequence_benchmark(veach, args.build, frames=args.frames)
     print(sequence_table)
     write_section("<!-- SEQUENCE:BEGIN -->", "<!-- SEQUENCE:END -->", sequence_table)
@@ -388,14 +393,15 @@ if args.only_animation or not args.only_parts:
         shutil.rmtree(tmp, ignore_errors=True)
         sys.exit(0)
 
-if not args.only_parts:
+if not (args.only_parts or args.only_integrators):
     denoise_table = denoise_benchmark([16, 64, 256], not args.no_cycles and shutil.which("blender") is not None)
     print(denoise_table)
     write_section("<!-- DENOISE:BEGIN -->", "<!-- DENOISE:END -->", denoise_table)
 
-parts_table = parts_overhead()
-print(parts_table)
-write_section("<!-- PARTS:BEGIN -->", "<!-- PARTS:END -->", parts_table)
+if not args.only_integrators:
+    parts_table = parts_overhead()
+    print(parts_table)
+    write_section("<!-- PARTS:BEGIN -->", "<!-- PARTS:END -->", parts_table)
 if args.only_parts:
     shutil.rmtree(tmp, ignore_errors=True)
     sys.exit(0)
@@ -501,6 +507,24 @@ lines.append("| scene | relMSE pt / bdpt at equal time (per budget) | efficiency
 lines.append("|---|---|---|")
 lines += summary
 lines.append("")
+default_rows = []
+for scene, r in results.items():
+    if not all(k in r["runs"] for k in ("auto", "pt", "bdpt")):
+        continue
+    best = [max(p["efficiency"], b["efficiency"]) for p, b in zip(r["runs"]["pt"], r["runs"]["bdpt"])]
+    vs_best = [a["efficiency"] / x for a, x in zip(r["runs"]["auto"], best)]
+    vs_cycles = ""
+    if have_cycles:
+        vs_cycles = " / ".join("%.2f" % (a["efficiency"] / c["efficiency"])
+                               for a, c in zip(r["runs"]["auto"], r["runs"]["cycles"]))
+    chosen = sorted(set(a["strategies"] for a in r["runs"]["auto"]))
+    default_rows.append("| %s | %s | %s | %s |" % (scene, ", ".join(chosen), " / ".join("%.2f" % v for v in vs_best),
+                                                   vs_cycles))
+if default_rows:
+    lines.append("| scene | auto chose | efficiency auto / max(pt, bdpt) (per budget) | efficiency auto / Cycles |")
+    lines.append("|---|---|---|---|")
+    lines += default_rows
+    lines.append("")
 lines.append("Thread scaling (pt, cornell, 128 spp, samples/s): 2 threads / 1 thread = %.2fx." % (scaling[2] / scaling[1]))
 lines.append("")
 lines.append("Cornell with twenty unused 4096x4096 textures (best of 3, load / load+render seconds): "

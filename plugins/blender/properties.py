@@ -4,6 +4,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 INTEGRATORS = [
+    ("auto", "Automatic", "Bidirectional path tracing with the strategies this scene needs, chosen per render"),
     ("bdpt", "Bidirectional", "Bidirectional path tracing: every strategy, MIS-weighted"),
     ("pt", "Path Tracing", "Unidirectional path tracing with next-event estimation and MIS"),
     ("lt", "Light Tracing", "Paths from the lights, splatted onto the film"),
@@ -33,7 +34,7 @@ class VeachSceneSettings(bpy.types.PropertyGroup):
         name="Denoise", default=False,
         description="Denoise the render with Veach's own denoiser (feature-guided regression; biased, its "
                     "error vanishing as samples grow); the noisy image is the Noisy Image pass of Denoising Data")
-    integrator: EnumProperty(name="Integrator", items=INTEGRATORS, default="bdpt")
+    integrator: EnumProperty(name="Integrator", items=INTEGRATORS, default="auto")
     max_depth: IntProperty(name="Max Bounces", description="Maximum scattering events on a path",
                            default=64, min=0, soft_max=256)
     threads: IntProperty(name="Threads",

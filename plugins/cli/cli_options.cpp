@@ -30,8 +30,9 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
   --seed N                random seed (default 0)
   --threads N             worker threads (default: the CPUs this process may use: its
                           affinity mask and cgroup CPU quota, e.g. taskset or a farm's binding)
-  --integrator NAME       bdpt (default: bidirectional path tracing), pt (path tracing) or
-                          lt (light tracing alone, for verification)
+  --integrator NAME       auto (default: bidirectional path tracing with the strategies the
+                          scene needs, chosen per render), bdpt (every strategy), pt (path
+                          tracing) or lt (light tracing alone, for verification)
   --sampler KIND          sobol (default: Owen-scrambled Sobol pairs for the first dimensions)
                           or random (independent numbers)
   --bdpt-strategy S,T     bdpt: render only the strategy with S light and T camera vertices,
@@ -96,8 +97,8 @@ Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.
                           may grow); the result equals an uninterrupted render
   --samples A:B           render only sample indices [A, B) of the --spp N render
                           (0 <= A < B <= N; not with --noise or --time): a part for a farm
-  --pixelbounds X0,X1,Y0,Y1  render only pixels [X0,X1) x [Y0,Y1) (pbrt-v4's order); bdpt and
-                          lt splats still land on the whole frame
+  --pixelbounds X0,X1,Y0,Y1  render only pixels [X0,X1) x [Y0,Y1) (pbrt-v4's order); light
+                          tracing's splats (bdpt, lt, auto) still land on the whole frame
                           An output ending in .vpart is a part file (exact sums, splats, sample
                           range, bounds, identity) for `veach merge`
   -q, --quiet             no progress output
@@ -258,7 +259,7 @@ RenderCommand parse_render_command(const std::vector<std::string>& args, VeachDe
     };
     bool filter_smooth = false, filter_width_given = false, env_map = false;
     std::string env_color;  // the last --env-color, applied after the loop
-    std::string integrator = "bdpt";
+    std::string integrator = "auto";
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&]() -> const std::string& {

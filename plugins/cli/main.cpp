@@ -283,6 +283,7 @@ void write_stats_json(const std::string& path, const std::string& input, VeachDe
        << "  \"height\": " << render_int(render, "result_height") << ",\n"
        << "  \"spp\": " << render_int(render, "result_spp") << ",\n"
        << "  \"integrator\": \"" << json_escape(render_string(render, "result_integrator")) << "\",\n"
+       << "  \"strategies\": \"" << json_escape(render_string(render, "result_strategies")) << "\",\n"
        << "  \"threads\": " << render_int(render, "result_threads") << ",\n"
        << "  \"seed\": " << static_cast<unsigned long long>(render_int(render, "seed")) << ",\n"
        << "  \"camera\": \"" << json_escape(render_string(render, "result_camera")) << "\",\n"

@@ -181,7 +181,8 @@ const OptionTable k_options{
     {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress", "eta_seconds",
      "render_seconds", "build_seconds", "denoise_seconds"},
     {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes", "checkpoint",
-     "pixelbounds", "result_camera", "result_integrator", "result_warnings"}};
+     "pixelbounds", "result_camera", "result_integrator", "result_strategies",
+     "result_warnings"}};
 
 void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
 
@@ -605,6 +606,8 @@ VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* 
             value = r ? r->camera_name : "";
         else if (n == "result_integrator")
             value = r ? r->integrator : "";
+        else if (n == "result_strategies")
+            value = r ? r->stats.strategies : "";
         else if (n == "result_warnings")
             value = r ? join(r->warnings, "\n") : "";
         veach::capi::copy_string(value, buffer, size, length);

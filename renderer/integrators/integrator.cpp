@@ -14,19 +14,21 @@
 #include <vector>
 
 #include "film/adaptive_sampling.h"
+#include "integrators/bdpt/adaptive_bidirectional.h"
 #include "integrators/bdpt/bidirectional_tracer.h"
 #include "integrators/lt/light_tracer.h"
 #include "integrators/pt/path_tracer.h"
 
 namespace veach {
 
-std::vector<std::string> integrator_names() { return {"bdpt", "pt", "lt"}; }
+std::vector<std::string> integrator_names() { return {"auto", "bdpt", "pt", "lt"}; }
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings) {
     // One (s, t) strategy is a BDPT notion: with pt or lt it would be ignored, silently.
     if (settings.integrator != "bdpt" && (settings.bdpt_s >= 0 || settings.bdpt_t >= 0))
         throw std::invalid_argument("the strategy options bdpt_s/bdpt_t (--bdpt-strategy) apply only to the bdpt "
                                     "integrator, not " + settings.integrator);
+    if (settings.integrator == "auto") return std::make_unique<AdaptiveBidirectional>(settings);
     if (settings.integrator == "pt") return std::make_unique<PathTracer>(settings);
     if (settings.integrator == "lt") return std::make_unique<LightTracer>(settings);
     if (settings.integrator == "bdpt") {
@@ -39,7 +41,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings) {
         }
         return std::make_unique<BidirectionalTracer>(settings, options);
     }
-    throw std::invalid_argument("unknown integrator '" + settings.integrator + "' (known: bdpt, pt, lt)");
+    throw std::invalid_argument("unknown integrator '" + settings.integrator + "' (known: auto, bdpt, pt, lt)");
 }
 
 namespace {
@@ -176,7 +178,9 @@ RenderStats render_image(const RenderScene& rs, Integrator& integrator, const Re
         double pass_start = elapsed();
         uint32_t begin = static_cast<uint32_t>(done), end = static_cast<uint32_t>(done + n);
         pass_samples = 0;
-        integrator.begin_pass(rs, begin, end, film);
+        // In the arena: a hook that works in parallel (the default integrator's probe) uses the
+        // render's threads.
+        arena.execute([&] { integrator.begin_pass(rs, begin, end, film); });
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
                 for (size_t t = r.begin(); t != r.end(); ++t) {
@@ -212,6 +216,7 @@ RenderStats render_image(const RenderScene& rs, Integrator& integrator, const Re
         }
     }
     stats.spp_done = done;
+    stats.strategies = integrator.strategies();
     stats.cancelled = cancelled();
     stats.rays = rays.load();
     stats.nonfinite_samples = nonfinite.load();

@@ -22,7 +22,7 @@ struct RenderSettings {
     uint64_t seed = 0;
     int max_depth = 64;                        // maximum number of scattering events on a path
     int threads = 0;                           // 0 = the CPUs the process may use (core/available_cpus)
-    std::string integrator = "bdpt";           // bdpt, pt or lt
+    std::string integrator = "auto";           // auto (bdpt's strategies as the scene needs), bdpt, pt or lt
     int bdpt_s = -1, bdpt_t = -1;              // bdpt: render only strategy (s, t), unweighted
     SamplerKind sampler = SamplerKind::Sobol;  // Owen-scrambled Sobol pairs, or independent
     // Adaptive sampling (film/adaptive_sampling.h): 0 = off; else the relative error at which a
@@ -68,6 +68,7 @@ struct RenderStats {
     double seconds = 0;
     bool cancelled = false;
     int threads = 0;  // the worker threads the render ran on
+    std::string strategies;  // what the default integrator chose (Integrator::strategies)
 };
 
 // Per-thread counters, merged once per tile.
@@ -95,6 +96,9 @@ public:
     // Whether each pixel's camera samples carry its estimate (false when every contribution is a
     // splat): adaptive sampling judges pixels by them, and is skipped otherwise.
     virtual bool pixels_hold_estimates() const { return true; }
+    // What an integrator that chooses its strategies per render chose, once it has (for the
+    // stats: "pt", "bdpt:encj"); empty otherwise.
+    virtual std::string strategies() const { return {}; }
 };
 
 // Throws std::invalid_argument for an unknown name.

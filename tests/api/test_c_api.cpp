@@ -618,7 +618,7 @@ TEST_F(CApi, DeviceListsNamesAndTheColourConfig) {
         s.resize(length);
         return s;
     };
-    EXPECT_EQ(get("integrators").find("bdpt\npt"), 0u) << get("integrators");
+    EXPECT_EQ(get("integrators").find("auto\nbdpt\npt"), 0u) << get("integrators");
     EXPECT_NE(get("passes").find("variance"), std::string::npos);
     EXPECT_NE(get("color_config"), "");
     std::string displays = get("color_displays");

@@ -94,7 +94,10 @@ def main():
         quarters = [(0, 4), (4, 8), (8, 12), (12, 16)]
         halves = [(0, 8), (8, 16)]
         tiles = [(0, 32, 0, 32), (32, 64, 0, 32), (0, 32, 32, 64), (32, 64, 32, 64)]
-        for integrator in ("pt", "bdpt", "lt"):
+        # auto, the default: its strategy set is chosen from the scene, camera, film size and seed
+        # alone, so every part makes the single render's choice (another choice would be another
+        # estimator, its noise far past the 1e-6 of splat summation order).
+        for integrator in ("pt", "bdpt", "lt", "auto"):
             single = os.path.join(tmp, f"single_{integrator}.exr")
             render(veach, scene, single, "--integrator", integrator)
             parts = sample_parts(veach, scene, tmp, integrator, quarters if integrator == "pt" else halves, integrator)

@@ -6,7 +6,8 @@ What must hold:
   veach:spp the samples per pixel every pixel completed (fewer than asked, at least one), and
   no file under the final name while the render runs.
 - A render killed with SIGKILL after a checkpoint and resumed with --resume equals the
-  uninterrupted render bit for bit (path tracing), passes and filter included; the checkpoint is
+  uninterrupted render bit for bit (path tracing, and the default integrator, which chooses its
+  strategies again on resuming), passes and filter included; the checkpoint is
   removed once the image is written.
 - --skip-existing leaves a complete output of the same spp alone.
 - Every format is read back through OpenImageIO with its metadata; a multi-layer EXR holds
@@ -96,8 +97,8 @@ def interrupted_by(veach, scene, folder, sig):
     print(f"{sig.name}: exit 130, {spp} of {requested} spp written")
 
 
-def checkpoint_kill_resume(veach, scene, folder):
-    common = ["--width", "32", "--spp", "64", "--integrator", "pt", "--seed", "3", "--filter", "blackman-harris",
+def checkpoint_kill_resume(veach, scene, folder, integrator="pt"):
+    common = ["--width", "32", "--spp", "64", "--integrator", integrator, "--seed", "3", "--filter", "blackman-harris",
               "--passes", "combined,depth,normal,albedo,variance", "-q"]
     ref = os.path.join(folder, "ref.exr")
     subprocess.run([veach, "render", scene, "-o", ref, "--threads", "2"] + common, check=True)
@@ -255,6 +256,10 @@ def main():
             interrupted_by(args.veach, scene, folder, sig)
         t = time.time()
         checkpoint_kill_resume(args.veach, scene, folder)
+        # The default integrator chooses its strategies again when it resumes: the same choice.
+        auto_folder = os.path.join(folder, "auto")
+        os.makedirs(auto_folder)
+        checkpoint_kill_resume(args.veach, scene, auto_folder, "auto")
         skip_existing(args.veach, scene, folder)
         formats_and_metadata(args.veach, scene, folder)
         flags_through_the_api(args.veach, scene, folder)

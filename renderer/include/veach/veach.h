@@ -227,8 +227,10 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *   cancelled before the requested samples), result_camera_samples, result_rays,
  *   result_nonfinite_samples (dropped), result_threads (since 0.6: the worker threads the
  *   render ran on); float progress, eta_seconds, render_seconds,
- *   build_seconds, denoise_seconds (since 0.7: 0 without denoise); string result_camera, result_integrator (the one that rendered),
- *   result_warnings. Every option can be read back too. */
+ *   build_seconds, denoise_seconds (since 0.7: 0 without denoise); string result_camera,
+ *   result_integrator (the one that rendered), result_strategies (since 0.7: what the default
+ *   integrator "auto" chose, "pt" or "bdpt:" and its strategy families' letters; empty for the
+ *   others), result_warnings. Every option can be read back too. */
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value);
 VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value);
 VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value);

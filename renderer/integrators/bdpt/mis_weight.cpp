@@ -1,11 +1,18 @@
 #include "integrators/bdpt/mis_weight.h"
 
+#include <cmath>
+
 #include "integrators/bdpt/vertex_densities.h"
 
 namespace veach {
 
-float mis_weight(const LightSet& lights, const CameraModel& camera_model, const std::vector<PathVertex>& light, int s,
-                 const std::vector<PathVertex>& camera, int t, const PathVertex* sampled_light) {
+namespace {
+
+// Calls add(family of (s', t'), p(s', t')^2 / p(s, t)^2) for every other strategy that could have
+// made the path: camera side first, then light side, each from the connection outward.
+template <class Add>
+void for_each_ratio(const LightSet& lights, const CameraModel& camera_model, const std::vector<PathVertex>& light,
+                    int s, const std::vector<PathVertex>& camera, int t, const PathVertex* sampled_light, Add&& add) {
     // The vertices at the connection, whose pdf_rev depend on the strategy.
     const PathVertex* y = s > 0 ? (s == 1 && sampled_light ? sampled_light : &light[s - 1]) : nullptr;
     const PathVertex* y_prev = s > 1 ? &light[s - 2] : nullptr;
@@ -41,7 +48,6 @@ float mis_weight(const LightSet& lights, const CameraModel& camera_model, const 
         }
     }
 
-    double sum = 0.0;
     // Camera side: strategies that would have made more of the path from the light.
     double r = 1.0;
     for (int i = t - 1; i > 0; --i) {
@@ -49,7 +55,7 @@ float mis_weight(const LightSet& lights, const CameraModel& camera_model, const 
         r *= remap0(rev) / remap0(camera[i].pdf_fwd);
         // (s, t) = (1, 1) from the environment is never sampled: the camera sees it only by s = 0.
         bool unsampled = s == 0 && t == 2 && camera[1].infinite;
-        if (!camera[i].delta && !camera[i - 1].delta && !unsampled) sum += r * r;
+        if (!camera[i].delta && !camera[i - 1].delta && !unsampled) add(strategy_family_index(s + t - i, i), r * r);
     }
     // Light side: strategies that would have made more of the path from the camera.
     r = 1.0;
@@ -58,9 +64,34 @@ float mis_weight(const LightSet& lights, const CameraModel& camera_model, const 
         float rev = i == s - 1 ? y_rev : (i == s - 2 ? y_prev_rev : v.pdf_rev);
         r *= remap0(rev) / remap0(v.pdf_fwd);
         bool delta_before = i > 0 ? light[i - 1].delta : v.delta_light;
-        if (!v.delta && !delta_before) sum += r * r;
+        if (!v.delta && !delta_before) add(strategy_family_index(i, s + t - i), r * r);
+    }
+}
+
+}  // namespace
+
+float mis_weight(const LightSet& lights, const CameraModel& camera_model, const std::vector<PathVertex>& light, int s,
+                 const std::vector<PathVertex>& camera, int t, const PathVertex* sampled_light,
+                 StrategyMask strategies) {
+    double sum = 0.0;
+    if (strategies == k_all_strategies) {
+        for_each_ratio(lights, camera_model, light, s, camera, t, sampled_light, [&](int, double r2) { sum += r2; });
+    } else {
+        for_each_ratio(lights, camera_model, light, s, camera, t, sampled_light, [&](int family, double r2) {
+            if ((strategies >> family) & 1u) sum += r2;
+        });
     }
     return static_cast<float>(1.0 / (1.0 + sum));
+}
+
+void mis_ratio_sums(const LightSet& lights, const CameraModel& camera_model, const std::vector<PathVertex>& light,
+                    int s, const std::vector<PathVertex>& camera, int t, const PathVertex* sampled_light,
+                    double squares[k_strategy_families], double cubes[k_strategy_families]) {
+    for (int f = 0; f < k_strategy_families; ++f) squares[f] = cubes[f] = 0.0;
+    for_each_ratio(lights, camera_model, light, s, camera, t, sampled_light, [&](int family, double r2) {
+        squares[family] += r2;
+        cubes[family] += r2 * std::sqrt(r2);
+    });
 }
 
 }  // namespace veach
