@@ -208,7 +208,8 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           this; 0 = off, every pixel gets spp), checkpoint_interval (seconds: keep the
  *           checkpoint file up to date at the first pass boundary after this long, 0 = every
  *           pass, negative = never write: the default)
- *   string: integrator ("bdpt", "pt", "lt"), camera (a name or an index, "" = the first),
+ *   string: integrator ("auto", the default: bidirectional path tracing with the strategies
+ *           the scene needs; "bdpt", "pt", "lt"), camera (a name or an index, "" = the first),
  *           filter ("box", "gaussian", "blackman-harris"; Cycles' pixel filters),
  *           sampler ("sobol", "random"), display, view, look (OpenColorIO, for PNG/JPEG/TIFF),
  *           exr_codec (none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab; "zip:N" and
