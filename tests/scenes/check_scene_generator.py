@@ -28,7 +28,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "tools"))
 import image_compare  # noqa: E402
 import numpy as np  # noqa: E402
 
-COMMITTED = ("cornell", "textured", "lights", "spheres", "corridor", "animated", "grooves")
+COMMITTED = ("cornell", "textured", "lights", "spheres", "corridor", "animated", "grooves", "many_lights")
 failures = []
 
 

@@ -1,8 +1,8 @@
 """A long diffuse hall (12 x 40 m, 4 m high) lit by 240 small one-sided emissive ceiling tiles
 (four strengths and colours) and 48 point lights scattered low through it, with crates and
 pillars between them: most lights matter only near themselves, the case for choosing lights per
-receiver (a light tree) rather than by power. Blender 3.4's Cycles has no light tree, which is the comparison `make
-bench` draws."""
+receiver (a light tree) rather than by power. Blender 3.4's Cycles has no light tree.
+"""
 import random
 
 import scene_kit as kit
