@@ -4,6 +4,10 @@
 find_package(embree 3.13 REQUIRED)
 find_package(TBB REQUIRED)
 find_package(TinyGLTF REQUIRED)
+# JSON: the options table the library describes, every JSON the command writes and reads.
+find_package(nlohmann_json 3.10 REQUIRED)
+# The `veach` command's parser (plugins/cli), from libcli11-dev.
+find_package(CLI11 2.1 REQUIRED CONFIG)
 # KHR_draco_mesh_compression (importers/gltf/gltf_draco.cpp only), from libdraco-dev. Debian's
 # libdraco is built with its glTF transcoder, so both libdraco.so.7 and libdraco.a carry their
 # own tinygltf (another version and layout) and stb_image, exported: linked as it is, it

@@ -10,6 +10,7 @@ packages=(
   build-essential cmake pkg-config git
   libembree-dev libtbb-dev libopenimageio-dev libopencolorio-dev
   libtinygltf-dev libstb-dev nlohmann-json3-dev libgtest-dev
+  libcli11-dev  # the `veach` command's parser (plugins/cli)
   libmeshoptimizer-dev  # EXT_meshopt_compression (the glTF importer)
   gltfpack  # the importer tests compress the reference scenes with it (-c, -cc)
   libdraco-dev  # KHR_draco_mesh_compression (the glTF importer); tests encode streams with it too

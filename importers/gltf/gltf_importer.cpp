@@ -520,6 +520,19 @@ void GltfImporter::load(std::span<const uint8_t> bytes, bool binary) {
 }
 
 void GltfImporter::check_extensions() {
+    // The file's scenes, variants and animations by name, whatever is loaded of them.
+    SceneCatalog& catalog = m_scene.catalog;
+    for (const tinygltf::Scene& sc : m_model.scenes) catalog.scenes.push_back(sc.name);
+    catalog.default_scene = m_model.defaultScene;
+    for (const tinygltf::Animation& a : m_model.animations) catalog.animations.push_back(a.name);
+    if (auto ext = m_model.extensions.find("KHR_materials_variants");
+        ext != m_model.extensions.end() && ext->second.Has("variants") && ext->second.Get("variants").IsArray()) {
+        const tinygltf::Value& list = ext->second.Get("variants");
+        for (int i = 0; i < static_cast<int>(list.ArrayLen()); ++i) {
+            const tinygltf::Value& v = list.Get(i);
+            catalog.variants.push_back(v.Has("name") && v.Get("name").IsString() ? v.Get("name").Get<std::string>() : "");
+        }
+    }
     for (const std::string& name : m_model.extensionsRequired)
         if (!gltf::is_supported_extension(name)) throw GltfError("requires unsupported extension " + name);
     for (const std::string& name : m_model.extensionsUsed)

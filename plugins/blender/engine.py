@@ -11,6 +11,7 @@
 import math
 import os
 import tempfile
+import time
 
 import bpy
 import numpy as np
@@ -139,10 +140,9 @@ class VeachRenderEngine(bpy.types.RenderEngine):
 
     def render_scene(self, scene, view_layer, path, scene_options, export, width, height):
         prefs = addon_preferences(bpy.context)
-        lib = library.load(prefs.library_path if prefs else "")
-        job = library.Render(lib, path, scene_options)
-        try:
-            for line in library_warnings(job.scene_string("warnings"), export):
+        veach = library.module(prefs.library_path if prefs else "")
+        with veach.Scene(path, **scene_options) as loaded, veach.Render(loaded) as job:
+            for line in library_warnings(loaded.get("warnings"), export):
                 self.report({"WARNING"}, f"Veach: {line}")
             options = render_settings.render_options(scene)
             job.set("width", width)
@@ -150,39 +150,60 @@ class VeachRenderEngine(bpy.types.RenderEngine):
             for name, value in options.items():
                 job.set(name, value)
             job.set("threads", render_threads(scene))
-            if export.camera_name and export.camera_name in job.camera_names():
+            if export.camera_name and export.camera_name in loaded.cameras:
                 job.set("camera", export.camera_name)
             passes = enabled_passes(view_layer, bool(options["denoise"]))
             job.set("aovs", 1 if any(p[4] in AOV_PASSES for p in passes) else 0)
 
+            job.set("snapshots", 1)  # the film so far at every pass, shown while rendering
             job.start()
             cancelled = False
             shown = None
-            while job.wait(100) == library.STATUS_RUNNING:
+            last_preview = time.monotonic()
+            while job.wait(0.1) == veach.RUNNING:
+                if time.monotonic() - last_preview >= 1.0:
+                    self.show_progress(job, veach, view_layer.name, render_settings.region(scene), width, height)
+                    last_preview = time.monotonic()
                 if not cancelled and (self.test_break() or (external_cancel and external_cancel())):
                     job.cancel()
                     cancelled = True
-                fraction = job.get_float("progress")
-                line = progress_line(options["integrator"], fraction, job.get_float("eta_seconds"))
+                fraction = job.get("progress")
+                line = progress_line(options["integrator"], fraction, job.get("eta_seconds"))
                 if line != shown:
                     self.update_progress(fraction)
                     self.update_stats("", line)
                     shown = line
             status = job.wait(0)
-            if status == library.STATUS_CANCELLED:
+            if status == veach.CANCELLED:
                 # Esc: Blender discards the result; a cancel from elsewhere keeps the partial image.
                 if self.test_break():
                     return "cancelled"
-            for line in job.get_string("result_warnings").splitlines():
+            for line in job.get("result_warnings").splitlines():
                 if line.strip():
                     self.report({"WARNING"}, f"Veach: {line.strip()}")
             self.write_result(job, view_layer.name, passes, render_settings.region(scene), width, height)
-            return "cancelled" if status == library.STATUS_CANCELLED else "done"
-        finally:
-            job.close()
+            return "cancelled" if status == veach.CANCELLED else "done"
+
+    def show_progress(self, job, veach, layer_name, region, width, height):
+        """The Combined pass so far into the render result (Blender redraws it): the library keeps
+        the film at each pass boundary while the render runs; none before the first pass."""
+        try:
+            pixels = job.get_pass("combined")
+        except veach.InvalidOperation:
+            return
+        h, w = pixels.shape[:2]
+        if (w, h) != (width, height):
+            return
+        x, y, rw, rh = region or (0, 0, width, height)
+        result = self.begin_result(0, 0, rw, rh, layer=layer_name)
+        rows = np.ascontiguousarray(pixels[y:y + rh, x:x + rw][::-1]).reshape(-1, 4)
+        combined = result.layers[0].passes.get("Combined")
+        if combined is not None:
+            combined.rect = rows
+        self.end_result(result)
 
     def write_result(self, job, layer_name, passes, region, width, height):
-        w, h = job.get_int("result_width"), job.get_int("result_height")
+        w, h = job.get("result_width"), job.get("result_height")
         x, y, rw, rh = region or (0, 0, width, height)
         # Blender calls render() once per view layer: fill that one. A border render's result is
         # the region's size.
@@ -191,19 +212,12 @@ class VeachRenderEngine(bpy.types.RenderEngine):
         if (w, h) == (width, height):
             for name, channels, _, _, source, _ in passes:
                 if name in layer.passes:
-                    pixels = read_pass(job, source, w, h)[y:y + rh, x:x + rw]
+                    pixels = job.get_pass(source)[y:y + rh, x:x + rw]  # (h, w, 4) float32, top row first
                     if source in NORMAL_PASSES:  # the library's world is glTF's (Y up), Blender's is Z up
                         pixels = np.stack([pixels[..., 0], -pixels[..., 2], pixels[..., 1], pixels[..., 3]], axis=-1)
                     rows = np.ascontiguousarray(pixels[::-1]).reshape(-1, 4)
                     layer.passes[name].rect = rows[:, :channels]
         self.end_result(result)
-
-
-def read_pass(job, name, width, height):
-    """The pass as the library gives it: (height, width, 4) float32, rows from the top down."""
-    pixels = np.empty((height, width, 4), dtype=np.float32)
-    job.get_pass(name, pixels.ctypes.data, pixels.nbytes)
-    return pixels
 
 
 def render_threads(scene):

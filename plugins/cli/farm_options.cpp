@@ -80,68 +80,12 @@ void check_farm_render_options(const RenderCommand& cmd) {
         throw UsageError("--samples cannot be combined with --noise or --time (a part must hold exactly its samples)");
 }
 
-const char* merge_usage_text() {
-    return R"(usage: veach merge PART.vpart... -o OUTPUT [-o ...] [--expect-spp N] [output options]
-
-Sums part files (written by `veach render ... --samples A:B / --pixelbounds ... -o X.vpart`) into
-the image one machine would have rendered, in any format `veach render` writes (or one .vpart).
-  -o, --output FILE       the merged image (repeat for several files)
-  --expect-spp N          refuse unless the parts cover samples 0..N-1 of every pixel exactly
-  --display, --view, --look, --exposure, --gamma, --half, --exr-codec, --passes, --quality,
-  --bits                  as for `veach render`
-  -q, --quiet             no summary line
-Refused with exit 2 and one line naming the files: parts of different renders (settings, scene
-content, size or frame), parts that overlap, gaps (with --expect-spp), corrupt parts.
-)";
-}
-
-int run_merge_command(VeachDevice device, const std::vector<std::string>& args) {
-    std::vector<std::string> parts, outputs;
-    std::vector<ApiOption> options;
-    long long expect_spp = 0;
-    bool quiet = false;
-    try {
-        for (size_t i = 0; i < args.size(); ++i) {
-            const std::string& a = args[i];
-            auto value = [&]() -> const std::string& {
-                if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-                return args[++i];
-            };
-            auto number = [&](const std::string& v) {
-                char* end = nullptr;
-                double x = std::strtod(v.c_str(), &end);
-                if (v.empty() || *end != '\0') throw UsageError(a + " expects a number, not '" + v + "'");
-                return x;
-            };
-            if (a == "-o" || a == "--output")
-                outputs.push_back(value());
-            else if (a == "--expect-spp")
-                expect_spp = whole_number(a, value(), 1, std::numeric_limits<int>::max());
-            else if (a == "--display" || a == "--view" || a == "--look" || a == "--exr-codec" || a == "--passes")
-                options.push_back(
-                    {ApiOption::Type::String, a == "--exr-codec" ? "exr_codec" : a.substr(2), 0, 0, value()});
-            else if (a == "--exposure" || a == "--gamma")
-                options.push_back({ApiOption::Type::Float, a.substr(2), 0, number(value()), {}});
-            else if (a == "--quality" || a == "--bits")
-                options.push_back({ApiOption::Type::Int, a.substr(2), whole_number(a, value(), 1, 100), 0, {}});
-            else if (a == "--half")
-                options.push_back({ApiOption::Type::Int, "half", 1, 0, {}});
-            else if (a == "-q" || a == "--quiet")
-                quiet = true;
-            else if (a == "-h" || a == "--help") {
-                std::fputs(merge_usage_text(), stdout);
-                return k_ok;
-            } else if (!a.empty() && a[0] == '-')
-                throw UsageError("unknown option '" + a + "'");
-            else
-                parts.push_back(a);
-        }
-        if (parts.empty()) throw UsageError("no part files given");
-        if (outputs.empty()) throw UsageError("no output given (-o FILE)");
-    } catch (const UsageError& e) {
-        std::fprintf(stderr, "veach merge: %s (try 'veach merge --help')\n", e.what());
-        return k_usage;
-    }
+int run_merge_command(VeachDevice device, const MergeCommand& cmd) {
+    const std::vector<std::string>& parts = cmd.parts;
+    const std::vector<std::string>& outputs = cmd.outputs;
+    const std::vector<ApiOption>& options = cmd.options;
+    const long long expect_spp = cmd.expect_spp;
+    const bool quiet = cmd.quiet;
     std::vector<const char*> paths;
     for (const std::string& p : parts) paths.push_back(p.c_str());
     VeachRender render = veachNewRenderFromParts(device, paths.data(), paths.size(), expect_spp);

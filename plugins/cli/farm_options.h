@@ -18,9 +18,7 @@ bool parse_farm_render_option(const std::vector<std::string>& args, size_t& i, R
 // --noise or --time). Throws UsageError.
 void check_farm_render_options(const RenderCommand& cmd);
 
-// `veach merge PART... -o OUTPUT [-o ...] [--expect-spp N] [output options]`: the exit code.
-int run_merge_command(VeachDevice device, const std::vector<std::string>& args);
-
-const char* merge_usage_text();
+// `veach merge PART... -o OUTPUT [-o ...] [--expect-spp N] [output options]`, parsed: the exit code.
+int run_merge_command(VeachDevice device, const MergeCommand& cmd);
 
 }  // namespace veach::cli

@@ -17,13 +17,15 @@
 #include <memory>
 #include <mutex>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
 #include "cli_options.h"
 #include "animation_options.h"
 #include "farm_options.h"
+#include "option_report.h"
+#include "render_stats.h"
+#include "scene_info.h"
 #include "veach/veach.h"
 
 namespace veach::cli {
@@ -73,11 +75,6 @@ const char* signal_name(int sig) {
     }
 }
 
-long long scene_int(VeachScene s, const char* name) {
-    long long v = 0;
-    veachGetSceneInt(s, name, &v);
-    return v;
-}
 long long render_int(VeachRender r, const char* name) {
     long long v = 0;
     veachGetInt(r, name, &v);
@@ -129,21 +126,6 @@ int list_color_config(VeachDevice device) {
     for (size_t i = 0; i < looks.size(); ++i) std::printf("%s %s", i ? "," : "", looks[i].c_str());
     std::printf("%s\n", looks.empty() ? " (none)" : "");
     return k_ok;
-}
-
-std::string json_escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '"' || c == '\\')
-            out += '\\', out += c;
-        else if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-            out += buf;
-        } else
-            out += c;
-    }
-    return out;
 }
 
 // One line at a time on stderr: a sequence's frame writer reports frame N while frame N+1's
@@ -248,72 +230,15 @@ extern "C" bool on_progress(void* user, double fraction, double eta) {
     return true;  // cancelling is the main thread's job (render_and_watch), promptly, per tile
 }
 
-struct Timings {
-    double load = 0, build = 0, render = 0, denoise = 0, write = 0, total = 0;
-};
-
-// What --stats-json reports of the scene, read when the frame's render ends: a sequence writes
-// frame N's file while the scene is already posed for frame N+1.
-struct SceneFacts {
-    long long triangles = 0;
-    std::vector<std::pair<const char*, long long>> repaired;
-    std::vector<std::string> features;
-};
-SceneFacts scene_facts(VeachScene scene) {
-    SceneFacts f;
-    f.triangles = scene_int(scene, "triangles");
-    for (const char* key : {"invalid_indices", "nonfinite_triangles", "degenerate_triangles", "duplicate_triangles",
-                            "normals_replaced", "normals_normalized", "uvs_replaced", "colors_replaced",
-                            "lights_dropped"})
-        f.repaired.emplace_back(key, scene_int(scene, (std::string("repaired_") + key).c_str()));
-    f.features = split_lines(scene_string(scene, "features"));
-    return f;
-}
-
-void write_stats_json(const std::string& path, const std::string& input, VeachDevice device, const SceneFacts& scene,
-                      VeachRender render, const Timings& t) {
-    std::ostringstream js;
-    double samples = static_cast<double>(render_int(render, "result_camera_samples"));
-    double rays = static_cast<double>(render_int(render, "result_rays"));
-    long long peak = 0;
-    veachGetDeviceInt(device, "peak_memory_bytes", &peak);
-    js << "{\n"
-       << "  \"input\": \"" << json_escape(input) << "\",\n"
-       << "  \"width\": " << render_int(render, "result_width") << ",\n"
-       << "  \"height\": " << render_int(render, "result_height") << ",\n"
-       << "  \"spp\": " << render_int(render, "result_spp") << ",\n"
-       << "  \"integrator\": \"" << json_escape(render_string(render, "result_integrator")) << "\",\n"
-       << "  \"strategies\": \"" << json_escape(render_string(render, "result_strategies")) << "\",\n"
-       << "  \"threads\": " << render_int(render, "result_threads") << ",\n"
-       << "  \"seed\": " << static_cast<unsigned long long>(render_int(render, "seed")) << ",\n"
-       << "  \"camera\": \"" << json_escape(render_string(render, "result_camera")) << "\",\n"
-       << "  \"triangles\": " << scene.triangles << ",\n"
-       << "  \"seconds\": {\"load\": " << t.load << ", \"build\": " << t.build << ", \"render\": " << t.render
-       << ", \"denoise\": " << t.denoise << ", \"write\": " << t.write << ", \"total\": " << t.total << "},\n"
-       << "  \"samples_per_second\": " << (t.render > 0 ? samples / t.render : 0.0) << ",\n"
-       << "  \"rays\": " << render_int(render, "result_rays") << ",\n"
-       << "  \"rays_per_second\": " << (t.render > 0 ? rays / t.render : 0.0) << ",\n"
-       << "  \"nonfinite_samples\": " << render_int(render, "result_nonfinite_samples") << ",\n"
-       << "  \"peak_rss_bytes\": " << peak << ",\n"
-       << "  \"repaired\": {";
-    for (size_t i = 0; i < scene.repaired.size(); ++i)
-        js << (i ? ", " : "") << "\"" << scene.repaired[i].first << "\": " << scene.repaired[i].second;
-    js << "},\n"
-       << "  \"features\": [";
-    for (size_t i = 0; i < scene.features.size(); ++i) js << (i ? ", " : "") << "\"" << scene.features[i] << "\"";
-    js << "]\n}\n";
-    const std::string text = js.str();
-    // Through the library's atomic writer, as images are: never a torn file under `path`.
-    if (veachWriteFile(device, path.c_str(), text.data(), text.size()) != VEACH_ERROR_NONE)
-        throw std::runtime_error(veachGetLastError());
-}
-
 // Renders on the library's own thread while this one watches for a stop signal: the signal
 // handler only sets g_cancel, and veachCancelRender is called here, in ordinary code, within
 // 20 ms of it (and as soon as `stop`, when given, is set). Returns the final status (the last error holds a failure's message).
-VeachStatus render_and_watch(VeachRender render, ProgressPrinter& progress, const std::atomic<bool>* stop) {
+VeachStatus render_and_watch(VeachRender render, ProgressPrinter& progress, const std::atomic<bool>* stop,
+                             const std::string& preview = {}, double preview_seconds = 0) {
     if (veachRenderAsync(render) != VEACH_ERROR_NONE) return VEACH_STATUS_FAILED;
-    bool cancelled = false;
+    bool cancelled = false, preview_failed = false;
+    using clock = std::chrono::steady_clock;
+    auto last_preview = clock::now();
     for (;;) {
         VeachStatus status = veachWaitRender(render, 20);
         if (status != VEACH_STATUS_RUNNING) return status;
@@ -321,6 +246,18 @@ VeachStatus render_and_watch(VeachRender render, ProgressPrinter& progress, cons
         if (!cancelled && (g_cancel.load() || (stop && stop->load()))) {
             veachCancelRender(render);
             cancelled = true;
+        }
+        // --preview-every: the film so far (kept at every pass boundary), written atomically as
+        // any image is; none before the first pass. A failed write is said once and rendering goes on.
+        if (!preview.empty() && !preview_failed &&
+            std::chrono::duration<double>(clock::now() - last_preview).count() >= preview_seconds) {
+            const VeachError e = veachWriteImage(render, preview.c_str());
+            if (e == VEACH_ERROR_NONE)
+                last_preview = clock::now();
+            else if (e != VEACH_ERROR_INVALID_OPERATION) {
+                print_stderr_line(formatted("veach: warning: preview not written: %s", veachGetLastError()));
+                preview_failed = true;
+            }
         }
     }
 }
@@ -354,8 +291,13 @@ bool output_complete(VeachDevice device, VeachRender options, const std::string&
     if (!part_file && value("veach:complete") != "yes") return false;
     // A part another version made would not merge with this one's.
     if (part_file && value("Software") != std::string("veach ") + veachGetVersionString()) return false;
-    if (value("veach:spp_requested") != std::to_string(spp) || value("veach:spp") != std::to_string(end - begin))
+    // Adaptive sampling (veach:spp_mean beside veach:spp) stops pixels early: its veach:spp is what
+    // every pixel reached, and veach:complete says whether every pass was rendered.
+    const bool adaptive = !value("veach:spp_mean").empty();
+    if (value("veach:spp_requested") != std::to_string(spp) ||
+        (!adaptive && value("veach:spp") != std::to_string(end - begin)))
         return false;
+    if (adaptive) return value("veach:samples").empty() && value("veach:pixelbounds").empty();  // never a part
     const std::string samples = value("veach:samples").empty() ? "0:" + value("veach:spp") : value("veach:samples");
     return samples == std::to_string(begin) + ":" + std::to_string(end) &&
            value("veach:pixelbounds") == render_string(options, "pixelbounds");
@@ -373,6 +315,8 @@ struct RenderedFrame {
     bool interrupted = false, checkpointing = false;
     std::string checkpoint;
     long long spp_done = 0, spp_requested = 0;
+    bool has_frame = false;
+    long long frame = 0;
 };
 
 // Renders one frame of a loaded scene (or the still: no frame). `t` brings the load's time (the
@@ -410,7 +354,12 @@ int render_frame_image(const RenderCommand& cmd, const std::string& input, Veach
     veachSetProgressFunction(r, on_progress, &progress);
     const long long spp_requested = render_int(r, "spp");
 
-    VeachStatus status = render_and_watch(r, progress, stop);
+    std::string preview;
+    if (!cmd.preview_path.empty()) {
+        preview = output_path_for(frame ? with_frame(cmd.preview_path, *frame) : cmd.preview_path, input);
+        veachSetInt(r, "snapshots", 1);
+    }
+    VeachStatus status = render_and_watch(r, progress, stop, preview, cmd.preview_seconds);
     if (stop && stop->load()) return k_failure;  // the sequence stops at the write that failed
     if (status == VEACH_STATUS_FAILED) {
         VeachError e = veachGetLastErrorCode();
@@ -453,6 +402,8 @@ int render_frame_image(const RenderCommand& cmd, const std::string& input, Veach
     out.checkpoint = checkpoint;
     out.spp_done = spp_done;
     out.spp_requested = spp_requested;
+    out.has_frame = frame != nullptr;
+    out.frame = frame ? *frame : 0;
     return k_ok;
 }
 
@@ -466,6 +417,7 @@ int write_frame(VeachDevice device, RenderedFrame& f) {
     const std::string& input = f.input;
     auto t2 = clock::now();
     std::string written;
+    StatsContext context{input, {}, f.has_frame, f.frame};
     for (const std::string& pattern : f.cmd.outputs) {
         std::string out = output_path_for(pattern, input);
         if (veachWriteImage(r, out.c_str()) != VEACH_ERROR_NONE) {
@@ -473,6 +425,7 @@ int write_frame(VeachDevice device, RenderedFrame& f) {
             return k_failure;
         }
         written += (written.empty() ? "" : ", ") + out;
+        context.outputs.push_back(out);
     }
     // The image is safely in place: the state it was resumable from has served its purpose.
     if (f.checkpointing && !f.interrupted) {
@@ -488,7 +441,7 @@ int write_frame(VeachDevice device, RenderedFrame& f) {
                                     static_cast<unsigned long long>(nonfinite)));
     if (!f.cmd.stats_json.empty()) {
         try {
-            write_stats_json(output_path_for(f.cmd.stats_json, input), input, device, f.scene, r, t);
+            write_stats_json(output_path_for(f.cmd.stats_json, input), device, f.scene, r, t, context);
         } catch (const std::exception& e) {
             print_stderr_line(formatted("veach: %s", e.what()));
             return k_failure;
@@ -678,6 +631,9 @@ int check_outputs(VeachDevice device, const RenderCommand& cmd, VeachRender chec
                 if (first_in_folder("output " + std::to_string(i), out))
                     if (VeachError e = veachCheckOutput(check, out.c_str()); e != VEACH_ERROR_NONE) return refuse(e);
             }
+            if (!cmd.preview_path.empty())
+                if (const std::string preview = path(cmd.preview_path); first_in_folder("preview", preview))
+                    if (VeachError e = veachCheckOutput(check, preview.c_str()); e != VEACH_ERROR_NONE) return refuse(e);
             if (!cmd.stats_json.empty())
                 if (const std::string stats = path(cmd.stats_json); first_in_folder("stats", stats))
                     if (VeachError e = veachCheckFile(device, stats.c_str()); e != VEACH_ERROR_NONE) return refuse(e);
@@ -689,18 +645,16 @@ int check_outputs(VeachDevice device, const RenderCommand& cmd, VeachRender chec
     return k_ok;
 }
 
+const char* k_usage_text = R"(usage: veach render INPUT... -o OUTPUT [options]   (veach render --help)
+       veach merge PART.vpart... -o OUTPUT [--expect-spp N]
+       veach info SCENE [--json] [--width N --height N]
+       veach color | veach options [--json | --markdown]
+       veach --version | --help
+)";
+
 int run(int argc, char** argv) {
-    std::vector<std::string> args(argv + 1, argv + argc);
-    if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
-        std::fputs(usage_text(), args.empty() ? stderr : stdout);
-        return args.empty() ? k_usage : k_ok;
-    }
-    if (args[0] == "--version") {
-        std::printf("veach %s\n", veachGetVersionString());
-        return k_ok;
-    }
-    if (args[0] != "render" && args[0] != "merge" && args[0] != "color" && args[0] != "colour") {
-        std::fprintf(stderr, "veach: unknown command '%s' (try 'veach --help')\n", args[0].c_str());
+    if (argc < 2) {
+        std::fputs(k_usage_text, stderr);
         return k_usage;
     }
     if (veachGetVersion() / 10000 != VEACH_VERSION_MAJOR || veachGetVersion() < VEACH_VERSION) {
@@ -716,15 +670,17 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "veach: %s\n", veachGetLastError());
         return k_failure;
     }
-    if (args[0] == "merge") return run_merge_command(device.h, std::vector<std::string>(args.begin() + 1, args.end()));
-    if (args[0] != "render") return list_color_config(device.h);
-    RenderCommand cmd;
-    try {
-        cmd = parse_render_command(std::vector<std::string>(args.begin() + 1, args.end()), device.h);
-    } catch (const UsageError& e) {
-        std::fprintf(stderr, "veach: %s (try 'veach --help')\n", e.what());
-        return k_usage;
+    CommandLine line = parse_command_line(argc, argv, device.h);
+    if (line.exit_code >= 0) return line.exit_code;
+    switch (line.which) {
+        case Subcommand::Merge: return run_merge_command(device.h, line.merge);
+        case Subcommand::Color: return list_color_config(device.h);
+        case Subcommand::Options: return print_options(device.h, line.options_json, line.options_markdown);
+        case Subcommand::Info: return run_info_command(device.h, line.info);
+        default: break;
     }
+    const RenderCommand& cmd = line.render;
+    if (cmd.dry_run) return print_dry_run(device.h, cmd);
     OptionsRender options;
     if (!make_options_render(device.h, cmd, options)) {
         std::fprintf(stderr, "veach: %s\n", veachGetLastError());

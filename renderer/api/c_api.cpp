@@ -16,6 +16,7 @@
 #include "film/film_part.h"
 #include "importers/importer.h"
 #include "integrators/integrator.h"
+#include "options/option_table.h"
 #include "output/atomic_file.h"
 #include "output/display_transform.h"
 #include "scene/scene_content_error.h"
@@ -201,6 +202,8 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
             value = lines(veach::known_passes());
         else if (n == "exr_codecs")
             value = lines(veach::exr_codec_names());
+        else if (n == "options")
+            value = veach::option_table_json();
         else if (n.rfind("color_", 0) == 0) {
             // Read on every call: $OCIO may change between calls, and listing is rare.
             veach::ColorConfigInfo info;
@@ -225,7 +228,7 @@ VEACH_API VeachError veachGetDeviceString(VeachDevice device, const char* name, 
                 throw veach::capi::invalid("unknown device string '" + n + "'");
         } else
             throw veach::capi::invalid("unknown device string '" + n +
-                                       "' (known: integrators, filters, passes, exr_codecs, color_config, "
+                                       "' (known: integrators, filters, passes, exr_codecs, options, color_config, "
                                        "color_displays, color_looks, color_views:DISPLAY)");
         veach::capi::copy_string(value, buffer, size, length);
         return VEACH_ERROR_NONE;

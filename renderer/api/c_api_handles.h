@@ -14,6 +14,7 @@
 #include "integrators/prepared_scene.h"
 #include "job/render_job.h"
 #include "load/scene_load.h"
+#include "options/option_table.h"
 #include "output/image_output.h"
 #include "scene/scene.h"
 #include "veach/veach.h"
@@ -49,8 +50,6 @@ struct VeachSceneImpl : veach::capi::RefCounted {
     std::mutex m_mutex;
     std::atomic<bool> m_loaded{false};
     veach::SceneLoadOptions m_options;
-    std::string m_env_color;  // the env_color option as given ("R,G,B"), for reading back
-    std::string m_shutter;    // the shutter option as given ("OPEN,CLOSE")
     std::string m_source;     // the file loaded, "" for a scene from memory
     // After the load, a scene imported with a time may be posed again at another (the scene
     // option "time"): never while a render of it runs. Renders count themselves here, under
@@ -77,6 +76,12 @@ struct VeachRenderImpl : veach::capi::RefCounted {
     VeachProgressFunction m_progress_fn = nullptr;
     void* m_progress_user = nullptr;
     std::shared_ptr<const veach::RenderResult> m_result;  // the last finished or cancelled render
+    // While a render runs: the film so far, resolved at the last pass boundary that was asked for
+    // one (option "snapshots", or m_snapshot_request: a pass or image asked for during the
+    // render), and the options that render runs with.
+    std::shared_ptr<const veach::RenderResult> m_snapshot;
+    std::atomic<bool> m_snapshot_request{false};
+    veach::RenderJobOptions m_running_job;
     veach::RenderJobOptions m_result_job;                 // the options m_result was rendered with
     bool m_result_complete = false;                       // m_result has every requested sample
     VeachError m_failure = VEACH_ERROR_NONE;              // why the last render failed
@@ -114,34 +119,38 @@ struct ApiError {
 inline ApiError invalid(const std::string& message) { return ApiError{VEACH_ERROR_INVALID_ARGUMENT, message}; }
 
 // Each option's type is fixed by its name; asking with another type is an error that names the
-// right one, so a host binding gets a useful message. An object kind (render, scene) lists its
-// names by type once; `what` names them in messages ("option", "scene option").
-enum class OptionKind { None, Int, Float, String };
-
-struct OptionTable {
+// right one, so a host binding gets a useful message. Options are the options table's rows
+// (options/option_table.h); what a render or a scene reports once it ran or loaded are results,
+// read-only, listed here by type. `what` names them in messages ("option", "scene option").
+struct ResultNames {
     const char* what;
+    veach::OptionObject object;
     std::vector<const char*> ints, floats, strings;
-
-    OptionKind kind_of(const std::string& name) const {
-        for (const char* k : ints)
-            if (name == k) return OptionKind::Int;
-        for (const char* k : floats)
-            if (name == k) return OptionKind::Float;
-        for (const char* k : strings)
-            if (name == k) return OptionKind::String;
-        return OptionKind::None;
-    }
-    // Throws an INVALID_ARGUMENT ApiError unless `name` is an option of type `wanted`.
-    void check(const char* name, OptionKind wanted) const {
-        if (!name) throw invalid(std::string("null ") + what + " name");
-        OptionKind k = kind_of(name);
-        if (k == wanted) return;
-        static constexpr const char* names[] = {"", "an int", "a float", "a string"};
-        if (k == OptionKind::None) throw invalid(std::string("unknown ") + what + " '" + name + "'");
-        throw invalid(std::string(what) + " '" + name + "' is " + names[static_cast<int>(k)] + ", not " +
-                      names[static_cast<int>(wanted)]);
-    }
 };
+
+// The option row of `name` (nullptr for a result) after checking that it is an option or result
+// of type `wanted`. Throws an INVALID_ARGUMENT ApiError otherwise.
+inline const veach::OptionSpec* lookup_option(const ResultNames& results, const char* name, veach::OptionKind wanted) {
+    using veach::OptionKind;
+    if (!name) throw invalid(std::string("null ") + results.what + " name");
+    const veach::OptionSpec* spec = veach::find_option(results.object, name);
+    OptionKind kind = OptionKind::Int;
+    bool found = spec != nullptr;
+    if (spec) kind = spec->kind;
+    auto in = [&](const std::vector<const char*>& names, OptionKind k) {
+        for (const char* n : names)
+            if (!found && std::string(name) == n) found = true, kind = k;
+    };
+    in(results.ints, OptionKind::Int);
+    in(results.floats, OptionKind::Float);
+    in(results.strings, OptionKind::String);
+    if (!found) throw invalid(std::string("unknown ") + results.what + " '" + name + "'");
+    static constexpr const char* names[] = {"an int", "a float", "a string"};
+    if (kind != wanted)
+        throw invalid(std::string(results.what) + " '" + name + "' is " + names[static_cast<int>(kind)] + ", not " +
+                      names[static_cast<int>(wanted)]);
+    return spec;
+}
 
 // Copies `value` into a caller's buffer as veach.h describes (truncated, NUL-terminated, full
 // length reported).

@@ -24,8 +24,6 @@
 using veach::capi::ApiError;
 using veach::capi::guarded;
 using veach::capi::invalid;
-using veach::capi::OptionKind;
-using veach::capi::OptionTable;
 
 VeachRenderImpl::~VeachRenderImpl() {
     m_cancel = true;
@@ -54,6 +52,8 @@ VeachError VeachRenderImpl::run() {
         job.checkpoint.scene_hash = m_scene->m_load.identity;
         for (const std::string& p : m_output.passes)
             if (veach::pass_needs_denoise(p) && !job.denoise) denoise_pass = p;
+        m_running_job = job;
+        m_snapshot.reset();
         progress_fn = m_progress_fn;
         progress_user = m_progress_user;
         m_failure = VEACH_ERROR_NONE;
@@ -70,6 +70,16 @@ VeachError VeachRenderImpl::run() {
         if (progress_fn && !progress_fn(progress_user, fraction, eta)) m_cancel = true;
     };
 
+    // The film so far, at pass boundaries: every pass with the option "snapshots", else the next
+    // one after a host asked (veachGetPass or veachWriteImage during the render).
+    m_snapshot_request = false;
+    veach::SnapshotSink snapshots;
+    snapshots.wanted = [this, every = job.snapshots] { return m_snapshot_request.exchange(false) || every; };
+    snapshots.take = [this](std::shared_ptr<const veach::RenderResult> snapshot) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_snapshot = std::move(snapshot);
+    };
+
     VeachError outcome = VEACH_ERROR_NONE;
     std::string message;
     VeachStatus status = VEACH_STATUS_DONE;
@@ -77,7 +87,7 @@ VeachError VeachRenderImpl::run() {
         if (!denoise_pass.empty())
             throw std::invalid_argument("the pass '" + denoise_pass + "' needs denoising (--denoise, option 'denoise')");
         auto result = std::make_shared<veach::RenderResult>(
-            veach::render_scene(m_scene->m_load.scene, job, control, &m_scene->m_prepared));
+            veach::render_scene(m_scene->m_load.scene, job, control, &m_scene->m_prepared, &snapshots));
         // A time limit shorter than the first pass leaves no image at all: an error, never an
         // empty image presented as the render.
         if (result->stats.spp_done == 0 && !result->stats.cancelled && job.render.time_limit > 0) {
@@ -122,6 +132,7 @@ VeachError VeachRenderImpl::run() {
         // Publish under the mutex so that a waiter cannot miss the notification.
         std::lock_guard<std::mutex> lock(m_mutex);
         m_status = status;
+        m_snapshot.reset();  // the result is the image now
     }
     m_finished.notify_all();
     return outcome;
@@ -140,111 +151,42 @@ void check_not_running(VeachRender render, const char* function) {
         throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": a render is running"};
 }
 
-int to_int(const std::string& name, long long value, long long lo, long long hi) {
-    if (value < lo || value > hi)
-        throw invalid("option '" + name + "': " + std::to_string(value) + " is outside [" + std::to_string(lo) + ", " +
-                      std::to_string(hi) + "]");
-    return static_cast<int>(value);
-}
-
 constexpr long long k_int_max = std::numeric_limits<int>::max();
 
-// The options' names by type (OptionTable, c_api_handles.h).
-const OptionTable k_options{
+// What a render reports once it ran, read-only; its options are the options table's render rows.
+const veach::capi::ResultNames k_results{
     "option",
-    {"width",
-     "height",
-     "spp",
-     "seed",
-     "max_depth",
-     "threads",
-     "bits",
-     "quality",
-     "half",
-     "aovs",
-     "transparent",
-     "bdpt_s",
-     "bdpt_t",
-     "resume",
-     "sample_begin",
-     "sample_end",
-     "denoise",
-     "result_width",
-     "result_height",
-     "result_spp",
-     "result_resumed_spp",
-     "result_complete",
-     "result_camera_samples",
-     "result_rays",
-     "result_nonfinite_samples",
-     "result_threads"},
-    {"time_limit", "exposure", "gamma", "filter_width", "noise", "checkpoint_interval", "progress", "eta_seconds",
-     "render_seconds", "build_seconds", "denoise_seconds"},
-    {"integrator", "camera", "filter", "sampler", "display", "view", "look", "exr_codec", "passes", "checkpoint",
-     "pixelbounds", "result_camera", "result_integrator", "result_strategies",
-     "result_warnings"}};
+    veach::OptionObject::Render,
+    {"result_width", "result_height", "result_spp", "result_resumed_spp", "result_complete", "result_camera_samples",
+     "result_rays", "result_nonfinite_samples", "result_threads", "estimated_memory_bytes"},
+    {"progress", "eta_seconds", "render_seconds", "build_seconds", "denoise_seconds"},
+    {"result_camera", "result_integrator", "result_strategies", "result_warnings"}};
 
-void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
+const veach::OptionSpec* option(const char* name, veach::OptionKind wanted) {
+    return veach::capi::lookup_option(k_results, name, wanted);
+}
 
-bool is_result(const std::string& n) {
-    return n.rfind("result_", 0) == 0 || n == "progress" || n == "eta_seconds" || n == "render_seconds" ||
-           n == "build_seconds" || n == "denoise_seconds";
+// Sets a render row (the render's mutex held): checked and stored by the options table.
+void set_render_option(VeachRender render, const veach::OptionSpec* spec, const char* name,
+                       const veach::OptionValue& value) {
+    if (!spec) throw invalid("option '" + std::string(name) + "' is read-only");
+    veach::OptionTargets targets{nullptr, &render->m_job, &render->m_output, &render->m_scene->m_load.scene};
+    try {
+        veach::set_option(*spec, targets, value);
+    } catch (const std::invalid_argument& e) {
+        throw invalid(e.what());
+    }
+}
+
+veach::OptionValue get_render_option(VeachRender render, const veach::OptionSpec& spec) {
+    veach::OptionTargets targets{nullptr, &render->m_job, &render->m_output, &render->m_scene->m_load.scene};
+    return veach::get_option(spec, targets);
 }
 
 std::string join(const std::vector<std::string>& items, const char* separator) {
     std::string out;
     for (const std::string& i : items) out += (out.empty() ? "" : separator) + i;
     return out;
-}
-
-// "a, b or c".
-std::string choices(const std::vector<std::string>& items) {
-    std::string out;
-    for (size_t i = 0; i < items.size(); ++i) out += (i == 0 ? "" : i + 1 == items.size() ? " or " : ", ") + items[i];
-    return out;
-}
-
-// "combined,depth": each a known pass, once, in the order given.
-std::vector<std::string> parse_passes(const std::string& v) {
-    std::vector<std::string> passes;
-    if (v.empty()) return passes;
-    const auto& known = veach::known_passes();
-    for (size_t start = 0; start <= v.size();) {
-        size_t comma = std::min(v.find(',', start), v.size());
-        std::string name = v.substr(start, comma - start);
-        if (std::find(known.begin(), known.end(), name) == known.end())
-            throw invalid("option 'passes': unknown pass '" + name + "' (known: " + join(known, ", ") + ")");
-        if (std::find(passes.begin(), passes.end(), name) == passes.end()) passes.push_back(name);
-        start = comma + 1;
-    }
-    return passes;
-}
-
-// "X0,X1,Y0,Y1" (pbrt's order), or "" for the whole frame. The image size is known only when
-// rendering, which checks the bounds against it.
-void parse_pixel_bounds(const std::string& v, veach::PartSettings* part) {
-    if (v.empty()) {
-        part->has_bounds = false;
-        return;
-    }
-    long long b[4];
-    const char* p = v.c_str();
-    for (int k = 0; k < 4; ++k) {
-        char* end = nullptr;
-        errno = 0;
-        b[k] = std::strtoll(p, &end, 10);
-        if (end == p || errno != 0 || b[k] < 0 || b[k] > 65536 || *end != (k < 3 ? ',' : '\0'))
-            throw invalid("option 'pixelbounds' expects X0,X1,Y0,Y1 (whole numbers, X0 < X1, Y0 < Y1), not '" + v +
-                          "'");
-        p = end + 1;
-    }
-    if (b[0] >= b[1] || b[2] >= b[3])
-        throw invalid("option 'pixelbounds' expects X0,X1,Y0,Y1 with X0 < X1 and Y0 < Y1, not '" + v + "'");
-    part->has_bounds = true;
-    part->x0 = static_cast<int>(b[0]);
-    part->x1 = static_cast<int>(b[1]);
-    part->y0 = static_cast<int>(b[2]);
-    part->y1 = static_cast<int>(b[3]);
 }
 
 bool is_part_path(const std::string& path) {
@@ -339,48 +281,10 @@ VEACH_API void veachReleaseRender(VeachRender render) {
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachSetInt");
-        check_kind(name, OptionKind::Int);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Int);
         check_not_running(render, "veachSetInt");
-        std::string n = name;
-        if (is_result(n)) throw invalid("option '" + n + "' is read-only");
         std::lock_guard<std::mutex> lock(render->m_mutex);
-        veach::RenderJobOptions& job = render->m_job;
-        if (n == "width")
-            job.width = to_int(n, value, 0, 65536);
-        else if (n == "height")
-            job.height = to_int(n, value, 0, 65536);
-        else if (n == "spp")
-            job.render.spp = to_int(n, value, 1, k_int_max);
-        else if (n == "seed") {
-            if (value < 0) throw invalid("option 'seed' must not be negative");
-            job.render.seed = static_cast<uint64_t>(value);
-        } else if (n == "max_depth")
-            job.render.max_depth = to_int(n, value, 0, 100000);
-        else if (n == "threads")
-            job.render.threads = to_int(n, value, 0, 1 << 16);
-        else if (n == "bits") {
-            if (value != 8 && value != 16) throw invalid("option 'bits' must be 8 or 16");
-            render->m_output.bits = static_cast<int>(value);
-        } else if (n == "quality")
-            render->m_output.quality = to_int(n, value, 1, 100);
-        else if (n == "half")
-            render->m_output.half = to_int(n, value, 0, 1) != 0;
-        else if (n == "aovs")
-            job.film.aovs = to_int(n, value, 0, 1) != 0;
-        else if (n == "transparent")
-            job.render.transparent = job.film.alpha = to_int(n, value, 0, 1) != 0;
-        else if (n == "bdpt_s")
-            job.render.bdpt_s = to_int(n, value, -1, 1000);
-        else if (n == "bdpt_t")
-            job.render.bdpt_t = to_int(n, value, -1, 1000);
-        else if (n == "resume")
-            job.checkpoint.resume = to_int(n, value, 0, 1) != 0;
-        else if (n == "sample_begin")
-            job.part.sample_begin = to_int(n, value, 0, k_int_max - 1);
-        else if (n == "sample_end")
-            job.part.sample_end = to_int(n, value, 0, k_int_max);
-        else if (n == "denoise")
-            job.denoise = to_int(n, value, 0, 1) != 0;
+        set_render_option(render, spec, name, veach::OptionValue::of_int(value));
         return VEACH_ERROR_NONE;
     });
 }
@@ -388,32 +292,10 @@ VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long
 VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachSetFloat");
-        check_kind(name, OptionKind::Float);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Float);
         check_not_running(render, "veachSetFloat");
-        std::string n = name;
-        if (!std::isfinite(value)) throw invalid("option '" + n + "' must be finite");
         std::lock_guard<std::mutex> lock(render->m_mutex);
-        if (n == "time_limit") {
-            if (value < 0) throw invalid("option 'time_limit' must not be negative");
-            render->m_job.render.time_limit = value;
-        } else if (n == "filter_width") {
-            if (value <= 0 || value > 64) throw invalid("option 'filter_width' must be in (0, 64] pixels");
-            render->m_job.film.filter.width = static_cast<float>(value);
-        } else if (n == "noise") {
-            if (value < 0 || value > 1e6) throw invalid("option 'noise' must be 0 (off) or a positive relative error");
-            render->m_job.render.noise_target = static_cast<float>(value);
-        } else if (n == "checkpoint_interval") {
-            if (value > 1e9) throw invalid("option 'checkpoint_interval' must be at most 1e9 seconds");
-            render->m_job.checkpoint.write = value >= 0;
-            render->m_job.checkpoint.interval_seconds = value >= 0 ? value : 0;
-        } else if (n == "exposure") {
-            if (std::abs(value) > 64) throw invalid("option 'exposure' must be in [-64, 64] stops");
-            render->m_output.display.exposure = static_cast<float>(value);
-        } else if (n == "gamma") {
-            if (value < 0.01 || value > 100) throw invalid("option 'gamma' must be in [0.01, 100]");
-            render->m_output.display.gamma = static_cast<float>(value);
-        } else
-            throw invalid("option '" + n + "' is read-only");
+        set_render_option(render, spec, name, veach::OptionValue::of_float(value));
         return VEACH_ERROR_NONE;
     });
 }
@@ -421,49 +303,10 @@ VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double 
 VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachSetString");
-        check_kind(name, OptionKind::String);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::String);
         check_not_running(render, "veachSetString");
-        std::string n = name, v = value ? value : "";
         std::lock_guard<std::mutex> lock(render->m_mutex);
-        if (n == "integrator") {
-            veach::RenderSettings probe;
-            probe.integrator = v;
-            veach::make_integrator(probe);  // throws invalid_argument naming the known ones
-            render->m_job.render.integrator = v;
-        } else if (n == "camera") {
-            veach::select_camera(render->m_scene->m_load.scene, v);  // throws naming the scene's cameras
-            render->m_job.camera = v;
-        } else if (n == "filter") {
-            if (!veach::parse_filter_name(v, &render->m_job.film.filter.type))
-                throw invalid("option 'filter': unknown filter '" + v + "' (known: " + join(veach::filter_names(), ", ") +
-                              ")");
-        } else if (n == "sampler") {
-            if (v == "sobol")
-                render->m_job.render.sampler = veach::SamplerKind::Sobol;
-            else if (v == "random")
-                render->m_job.render.sampler = veach::SamplerKind::Random;
-            else
-                throw invalid("option 'sampler': expects sobol or random, not '" + v + "'");
-        } else if (n == "display")
-            render->m_output.display.display = v;
-        else if (n == "view")
-            render->m_output.display.view = v;
-        else if (n == "look")
-            render->m_output.display.look = v;
-        else if (n == "exr_codec") {
-            if (!veach::is_exr_codec(v))
-                throw invalid("option 'exr_codec': expects " + choices(veach::exr_codec_names()) + ", not '" + v + "'");
-            render->m_output.exr_codec = v;
-        } else if (n == "passes") {
-            render->m_output.passes = parse_passes(v);
-            for (const std::string& p : render->m_output.passes)
-                if (veach::pass_needs_aovs(p)) render->m_job.film.aovs = true;
-        } else if (n == "checkpoint")
-            render->m_job.checkpoint.path = v;
-        else if (n == "pixelbounds")
-            parse_pixel_bounds(v, &render->m_job.part);
-        else
-            throw invalid("option '" + n + "' is read-only");
+        set_render_option(render, spec, name, veach::OptionValue::of_string(value ? value : ""));
         return VEACH_ERROR_NONE;
     });
 }
@@ -471,56 +314,27 @@ VEACH_API VeachError veachSetString(VeachRender render, const char* name, const 
 VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long* value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetInt");
-        check_kind(name, OptionKind::Int);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Int);
         if (!value) throw invalid("veachGetInt: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(render->m_mutex);
-        const veach::RenderJobOptions& job = render->m_job;
-        const veach::RenderResult* r = render->m_result.get();
-        if (n == "width")
-            *value = job.width > 0 ? job.width : 1920;
-        else if (n == "height")
-            *value = job.height;
-        else if (n == "spp")
-            *value = job.render.spp;
-        else if (n == "seed")
-            *value = static_cast<long long>(job.render.seed);
-        else if (n == "max_depth")
-            *value = job.render.max_depth;
-        else if (n == "threads")
-            *value = job.render.threads;
-        else if (n == "bits")
-            *value = render->m_output.bits;
-        else if (n == "quality")
-            *value = render->m_output.quality;
-        else if (n == "half")
-            *value = render->m_output.half ? 1 : 0;
-        else if (n == "aovs")
-            *value = job.film.aovs ? 1 : 0;
-        else if (n == "transparent")
-            *value = job.render.transparent ? 1 : 0;
-        else if (n == "result_width")
+        if (spec) {
+            *value = get_render_option(render, *spec).i;
+            return VEACH_ERROR_NONE;
+        }
+        // While a render runs, its results are the film so far (the last snapshot, if any).
+        const bool running = render->m_status == VEACH_STATUS_RUNNING;
+        const veach::RenderResult* r = running ? render->m_snapshot.get() : render->m_result.get();
+        if (n == "result_width")
             *value = r ? r->image.width : 0;
         else if (n == "result_height")
             *value = r ? r->image.height : 0;
         else if (n == "result_spp")
             *value = r ? r->stats.spp_done - r->part.sample_begin : 0;  // the samples each pixel holds
-        else if (n == "bdpt_s")
-            *value = job.render.bdpt_s;
-        else if (n == "bdpt_t")
-            *value = job.render.bdpt_t;
-        else if (n == "resume")
-            *value = job.checkpoint.resume ? 1 : 0;
-        else if (n == "sample_begin")
-            *value = job.part.sample_begin;
-        else if (n == "sample_end")
-            *value = job.part.sample_end;
-        else if (n == "denoise")
-            *value = job.denoise ? 1 : 0;
         else if (n == "result_resumed_spp")
             *value = r ? r->resumed_spp : 0;
         else if (n == "result_complete")
-            *value = r && render->m_result_complete ? 1 : 0;
+            *value = r && !running && render->m_result_complete ? 1 : 0;
         else if (n == "result_camera_samples")
             *value = r ? static_cast<long long>(r->stats.camera_samples) : 0;
         else if (n == "result_rays")
@@ -529,6 +343,13 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
             *value = r ? static_cast<long long>(r->stats.nonfinite_samples) : 0;
         else if (n == "result_threads")
             *value = r ? r->stats.threads : 0;
+        else if (n == "estimated_memory_bytes") {
+            // What a render with the current options would allocate beyond the scene.
+            int width = 0, height = 0;
+            const veach::Scene& scene = render->m_scene->m_load.scene;
+            veach::resolve_image_size(scene, render->m_job, &width, &height);
+            *value = static_cast<long long>(veach::estimate_render_memory(scene, render->m_job, width, height).total());
+        }
         return VEACH_ERROR_NONE;
     });
 }
@@ -536,7 +357,7 @@ VEACH_API VeachError veachGetInt(VeachRender render, const char* name, long long
 VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double* value) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetFloat");
-        check_kind(name, OptionKind::Float);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Float);
         if (!value) throw invalid("veachGetFloat: null value pointer");
         std::string n = name;
         if (n == "progress")
@@ -545,24 +366,14 @@ VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double*
             *value = render->m_eta.load();
         else {
             std::lock_guard<std::mutex> lock(render->m_mutex);
-            if (n == "time_limit")
-                *value = render->m_job.render.time_limit;
-            else if (n == "exposure")
-                *value = render->m_output.display.exposure;
-            else if (n == "gamma")
-                *value = render->m_output.display.gamma;
-            else if (n == "filter_width")
-                *value = render->m_job.film.filter.width;
+            if (spec)
+                *value = get_render_option(render, *spec).f;
             else if (n == "render_seconds")
                 *value = render->m_result ? render->m_result->render_seconds : 0.0;
             else if (n == "build_seconds")
                 *value = render->m_result ? render->m_result->build_seconds : 0.0;
             else if (n == "denoise_seconds")
                 *value = render->m_result ? render->m_result->denoise_seconds : 0.0;
-            else if (n == "noise")
-                *value = render->m_job.render.noise_target;
-            else if (n == "checkpoint_interval")
-                *value = render->m_job.checkpoint.write ? render->m_job.checkpoint.interval_seconds : -1.0;
         }
         return VEACH_ERROR_NONE;
     });
@@ -571,37 +382,13 @@ VEACH_API VeachError veachGetFloat(VeachRender render, const char* name, double*
 VEACH_API VeachError veachGetString(VeachRender render, const char* name, char* buffer, size_t size, size_t* length) {
     return guarded<VeachError>(device_of(render), VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_render(render, "veachGetString");
-        check_kind(name, OptionKind::String);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::String);
         if (!buffer && size > 0) throw invalid("veachGetString: null buffer");
         std::string n = name, value;
         std::lock_guard<std::mutex> lock(render->m_mutex);
-        const veach::RenderJobOptions& job = render->m_job;
-        const veach::OutputSettings& out = render->m_output;
         const veach::RenderResult* r = render->m_result.get();
-        if (n == "integrator")
-            value = job.render.integrator;
-        else if (n == "camera")
-            value = job.camera;
-        else if (n == "filter")
-            value = veach::filter_name(job.film.filter.type);
-        else if (n == "sampler")
-            value = job.render.sampler == veach::SamplerKind::Random ? "random" : "sobol";
-        else if (n == "display")
-            value = out.display.display;
-        else if (n == "view")
-            value = out.display.view;
-        else if (n == "look")
-            value = out.display.look;
-        else if (n == "exr_codec")
-            value = out.exr_codec;
-        else if (n == "passes")
-            value = join(out.passes, ",");
-        else if (n == "checkpoint")
-            value = job.checkpoint.path;
-        else if (n == "pixelbounds")
-            value = job.part.has_bounds ? std::to_string(job.part.x0) + "," + std::to_string(job.part.x1) + "," +
-                                              std::to_string(job.part.y0) + "," + std::to_string(job.part.y1)
-                                        : "";
+        if (spec)
+            value = get_render_option(render, *spec).s;
         else if (n == "result_camera")
             value = r ? r->camera_name : "";
         else if (n == "result_integrator")
@@ -714,7 +501,16 @@ VeachError copy_pass(VeachRender render, const char* pass, float* dst, size_t ds
         std::shared_ptr<const veach::RenderResult> result;
         {
             std::lock_guard<std::mutex> lock(render->m_mutex);
-            result = render->m_result;
+            if (render->m_status == VEACH_STATUS_RUNNING) {
+                // The film so far, as resolved at a pass boundary; the next boundary resolves it anew.
+                result = render->m_snapshot;
+                render->m_snapshot_request = true;
+                if (!result)
+                    throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                                   "veachGetPass: no pass has finished yet; the film so far is kept from the next "
+                                   "pass boundary on (the option 'snapshots' keeps it at every one)"};
+            } else
+                result = render->m_result;
         }
         if (!result) throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachGetPass: nothing rendered yet"};
         const veach::Image& image = result->image;
@@ -885,14 +681,30 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path) {
         veach::OutputSettings settings;
         veach::RenderJobOptions job;  // the options the result was rendered with
         bool complete;
+        bool partial = false;
         {
             std::lock_guard<std::mutex> lock(render->m_mutex);
-            result = render->m_result;
+            if (render->m_status == VEACH_STATUS_RUNNING) {
+                // A preview: the film so far, written like any image and tagged incomplete.
+                result = render->m_snapshot;
+                job = render->m_running_job;
+                complete = false;
+                partial = true;
+                render->m_snapshot_request = true;
+                if (!result)
+                    throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                                   std::string(path) + ": no pass has finished yet, nothing to write"};
+            } else {
+                result = render->m_result;
+                job = render->m_result_job;
+                complete = render->m_result_complete;
+            }
             settings = render->m_output;
-            job = render->m_result_job;
-            complete = render->m_result_complete;
         }
         if (!result) throw ApiError{VEACH_ERROR_INVALID_OPERATION, "veachWriteImage: nothing rendered yet"};
+        if (partial && is_part_path(path))
+            throw ApiError{VEACH_ERROR_INVALID_OPERATION,
+                           std::string(path) + ": a part file holds a finished render's sums, not a preview"};
         if (is_part_path(path)) {
             if (!result->film)
                 throw ApiError{VEACH_ERROR_INVALID_OPERATION,
@@ -931,6 +743,23 @@ VEACH_API VeachError veachWriteImage(VeachRender render, const char* path) {
         meta["veach:filter"] = filter;
         meta["veach:render_seconds"] = std::to_string(result->render_seconds);
         if (result->resumed_spp > 0) meta["veach:resumed_spp"] = std::to_string(result->resumed_spp);
+        // Adaptive sampling stops pixels early: veach:spp is then what every pixel reached, with the
+        // mean and the most any pixel took beside it (the samples pass holds each pixel's count).
+        const std::vector<float>& counts = result->image.sample_count;
+        if (job.render.noise_target > 0 && !counts.empty()) {
+            double low = counts[0], high = counts[0], sum = 0;
+            for (float n : counts) {
+                low = std::min<double>(low, n);
+                high = std::max<double>(high, n);
+                sum += n;
+            }
+            char mean[32];
+            std::snprintf(mean, sizeof(mean), "%.6g", sum / static_cast<double>(counts.size()));
+            meta["veach:spp"] = std::to_string(static_cast<long long>(low));
+            meta["veach:spp_mean"] = mean;
+            meta["veach:spp_max"] = std::to_string(static_cast<long long>(high));
+        }
+        for (const auto& [name, value] : settings.user_attributes) meta[name] = value;
         veach::write_image(result->image, path, settings);
         return VEACH_ERROR_NONE;
     });

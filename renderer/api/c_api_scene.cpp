@@ -14,12 +14,11 @@
 #include <stdexcept>
 
 #include "api/c_api_handles.h"
+#include "load/scene_info.h"
 
 using veach::capi::ApiError;
 using veach::capi::guarded;
 using veach::capi::invalid;
-using veach::capi::OptionKind;
-using veach::capi::OptionTable;
 
 VeachSceneImpl::~VeachSceneImpl() { veachReleaseDevice(m_device); }
 
@@ -40,53 +39,36 @@ void check_loaded(VeachScene scene, const char* function) {
         throw ApiError{VEACH_ERROR_INVALID_OPERATION, std::string(function) + ": the scene is not loaded"};
 }
 
-// The options' names by type (OptionTable, c_api_handles.h).
-const OptionTable k_options{"scene option",
-                            {"scene_index", "allow_external_files", "triangles", "cameras", "repaired_invalid_indices",
-                             "repaired_nonfinite_triangles", "repaired_degenerate_triangles",
-                             "repaired_duplicate_triangles", "repaired_normals_replaced", "repaired_normals_normalized",
-                             "repaired_uvs_replaced", "repaired_colors_replaced", "repaired_lights_dropped"},
-                            {"env_strength", "env_rotate", "time"},
-                            {"variant", "spot_falloff", "default_material", "env_map", "env_color", "animation", "shutter",
-                             "source", "features", "warnings"}};
+// What a loaded scene reports, read-only; its options are the options table's scene rows.
+const veach::capi::ResultNames k_results{"scene option",
+                                         veach::OptionObject::Scene,
+                                         {"triangles", "cameras", "repaired_invalid_indices",
+                                          "repaired_nonfinite_triangles", "repaired_degenerate_triangles",
+                                          "repaired_duplicate_triangles", "repaired_normals_replaced",
+                                          "repaired_normals_normalized", "repaired_uvs_replaced",
+                                          "repaired_colors_replaced", "repaired_lights_dropped"},
+                                         {},
+                                         {"source", "features", "warnings", "info"}};
 
-void check_kind(const char* name, OptionKind wanted) { k_options.check(name, wanted); }
-
-bool is_result(const std::string& n) {
-    return n == "triangles" || n == "cameras" || n.rfind("repaired_", 0) == 0 || n == "source" || n == "features" ||
-           n == "warnings";
+const veach::OptionSpec* option(const char* name, veach::OptionKind wanted) {
+    return veach::capi::lookup_option(k_results, name, wanted);
 }
 
-// "R,G,B" with three finite numbers >= 0.
-veach::Rgb parse_color(const std::string& v) {
-    float c[3];
-    const char* p = v.c_str();
-    for (int k = 0; k < 3; ++k) {
-        char* end = nullptr;
-        double x = std::strtod(p, &end);
-        if (end == p || !std::isfinite(x) || x < 0 || x > 1e30 || *end != (k < 2 ? ',' : '\0'))
-            throw invalid("scene option 'env_color' expects R,G,B with numbers >= 0 (e.g. 0.8,0.9,1), not '" + v + "'");
-        c[k] = static_cast<float>(x);
-        p = end + 1;
+// Sets a scene row before the load (the scene's mutex held).
+void set_scene_option(VeachScene scene, const veach::OptionSpec* spec, const veach::OptionValue& value,
+                      const char* function) {
+    check_not_loaded(scene, function);
+    veach::OptionTargets targets{&scene->m_options, nullptr, nullptr, nullptr};
+    try {
+        veach::set_option(*spec, targets, value);
+    } catch (const std::invalid_argument& e) {
+        throw invalid(e.what());
     }
-    return veach::Rgb(c[0], c[1], c[2]);
 }
 
-// "OPEN,CLOSE": two finite numbers of seconds, open <= close (equal: no motion blur).
-void parse_shutter(const std::string& v, double* open, double* close) {
-    double x[2];
-    const char* p = v.c_str();
-    for (int k = 0; k < 2; ++k) {
-        char* end = nullptr;
-        x[k] = std::strtod(p, &end);
-        if (end == p || !std::isfinite(x[k]) || std::abs(x[k]) > 1e9 || *end != (k == 0 ? ',' : '\0'))
-            throw invalid("scene option 'shutter' expects OPEN,CLOSE in seconds relative to 'time' (e.g. "
-                          "-0.0104,0.0104), not '" + v + "'");
-        p = end + 1;
-    }
-    if (x[0] > x[1]) throw invalid("scene option 'shutter': it opens after it closes ('" + v + "')");
-    *open = x[0];
-    *close = x[1];
+veach::OptionValue get_scene_option(VeachScene scene, const veach::OptionSpec& spec) {
+    veach::OptionTargets targets{&scene->m_options, nullptr, nullptr, nullptr};
+    return veach::get_option(spec, targets);
 }
 
 template <class Load>
@@ -188,19 +170,10 @@ VEACH_API VeachError veachLoadSceneMemory(VeachScene scene, const void* data, si
 VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long long value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachSetSceneInt");
-        check_kind(name, OptionKind::Int);
-        std::string n = name;
-        if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Int);
+        if (!spec) throw invalid("scene option '" + std::string(name) + "' is read-only");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        check_not_loaded(scene, "veachSetSceneInt");
-        if (n == "scene_index") {
-            if (value < -1 || value > std::numeric_limits<int>::max())
-                throw invalid("scene option 'scene_index' must be -1 (the file's default) or a scene index");
-            scene->m_options.import.scene_index = static_cast<int>(value);
-        } else if (n == "allow_external_files") {
-            if (value != 0 && value != 1) throw invalid("scene option 'allow_external_files' must be 0 or 1");
-            scene->m_options.import.allow_external_files = value == 1;
-        }
+        set_scene_option(scene, spec, veach::OptionValue::of_int(value), "veachSetSceneInt");
         return VEACH_ERROR_NONE;
     });
 }
@@ -208,13 +181,19 @@ VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long l
 VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, double value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachSetSceneFloat");
-        check_kind(name, OptionKind::Float);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Float);
+        if (!spec) throw invalid("scene option '" + std::string(name) + "' is read-only");
         std::string n = name;
-        if (!std::isfinite(value)) throw invalid("scene option '" + n + "' must be finite");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
         if (n == "time" && scene->m_loaded) {
             // A sequence: the loaded scene posed at another time, its file never read again.
-            if (std::abs(value) > 1e9) throw invalid("scene option 'time' must be in [-1e9, 1e9] seconds");
+            veach::SceneLoadOptions probe = scene->m_options;
+            veach::OptionTargets targets{&probe, nullptr, nullptr, nullptr};
+            try {
+                veach::set_option(*spec, targets, veach::OptionValue::of_float(value));  // the range
+            } catch (const std::invalid_argument& e) {
+                throw invalid(e.what());
+            }
             if (!scene->m_options.import.animate)
                 throw ApiError{VEACH_ERROR_INVALID_OPERATION,
                                "veachSetSceneFloat: the scene was loaded without a time; set 'time' before the load "
@@ -232,18 +211,7 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
             }
             return VEACH_ERROR_NONE;
         }
-        check_not_loaded(scene, "veachSetSceneFloat");
-        if (n == "env_strength") {
-            if (value < 0 || value > 1e30) throw invalid("scene option 'env_strength' must be in [0, 1e30]");
-            scene->m_options.environment.strength = static_cast<float>(value);
-        } else if (n == "env_rotate") {
-            if (std::abs(value) > 1e6) throw invalid("scene option 'env_rotate' must be in [-1e6, 1e6] degrees");
-            scene->m_options.environment.rotate_degrees = static_cast<float>(value);
-        } else if (n == "time") {
-            if (std::abs(value) > 1e9) throw invalid("scene option 'time' must be in [-1e9, 1e9] seconds");
-            scene->m_options.import.animate = true;
-            scene->m_options.time = value;
-        }
+        set_scene_option(scene, spec, veach::OptionValue::of_float(value), "veachSetSceneFloat");
         return VEACH_ERROR_NONE;
     });
 }
@@ -251,55 +219,10 @@ VEACH_API VeachError veachSetSceneFloat(VeachScene scene, const char* name, doub
 VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, const char* value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachSetSceneString");
-        check_kind(name, OptionKind::String);
-        std::string n = name, v = value ? value : "";
-        if (is_result(n)) throw invalid("scene option '" + n + "' is read-only");
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::String);
+        if (!spec) throw invalid("scene option '" + std::string(name) + "' is read-only");
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        check_not_loaded(scene, "veachSetSceneString");
-        veach::EnvironmentOptions& env = scene->m_options.environment;
-        if (n == "variant")
-            scene->m_options.import.variant = v;
-        else if (n == "spot_falloff") {
-            if (v == "auto")
-                scene->m_options.import.spot_profile = veach::SpotProfile::Auto;
-            else if (v == "blender")
-                scene->m_options.import.spot_profile = veach::SpotProfile::Blender;
-            else if (v == "gltf")
-                scene->m_options.import.spot_profile = veach::SpotProfile::Gltf;
-            else
-                throw invalid("scene option 'spot_falloff' expects auto, blender or gltf, not '" + v + "'");
-        } else if (n == "default_material") {
-            if (v == "auto")
-                scene->m_options.import.default_material = veach::DefaultMaterial::Auto;
-            else if (v == "blender")
-                scene->m_options.import.default_material = veach::DefaultMaterial::Blender;
-            else if (v == "gltf")
-                scene->m_options.import.default_material = veach::DefaultMaterial::Gltf;
-            else
-                throw invalid("scene option 'default_material' expects auto, blender or gltf, not '" + v + "'");
-        } else if (n == "env_map") {
-            if (!v.empty() && env.has_color)
-                throw invalid("scene options 'env_map' and 'env_color' exclude each other");
-            env.map_path = v;
-        } else if (n == "env_color") {
-            if (v.empty()) {
-                env.has_color = false;
-                env.color = veach::Rgb(1.0f);
-            } else {
-                if (!env.map_path.empty()) throw invalid("scene options 'env_map' and 'env_color' exclude each other");
-                env.color = parse_color(v);
-                env.has_color = true;
-            }
-            scene->m_env_color = v;
-        } else if (n == "animation") {
-            scene->m_options.import.animation = v.empty() ? "all" : v;  // checked against the file by the load
-        } else if (n == "shutter") {
-            double open = 0, close = 0;
-            if (!v.empty()) parse_shutter(v, &open, &close);
-            scene->m_options.shutter_open = open;
-            scene->m_options.shutter_close = close;
-            scene->m_shutter = v;
-        }
+        set_scene_option(scene, spec, veach::OptionValue::of_string(value ? value : ""), "veachSetSceneString");
         return VEACH_ERROR_NONE;
     });
 }
@@ -307,15 +230,13 @@ VEACH_API VeachError veachSetSceneString(VeachScene scene, const char* name, con
 VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long long* value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachGetSceneInt");
-        check_kind(name, OptionKind::Int);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Int);
         if (!value) throw invalid("veachGetSceneInt: null value pointer");
         std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        if (n == "scene_index")
-            *value = scene->m_options.import.scene_index;
-        else if (n == "allow_external_files")
-            *value = scene->m_options.import.allow_external_files ? 1 : 0;
-        else {
+        if (spec) {
+            *value = get_scene_option(scene, *spec).i;
+        } else {
             check_loaded(scene, "veachGetSceneInt");
             const veach::Scene& s = scene->m_load.scene;
             const veach::RepairCounts& r = s.repaired;
@@ -350,16 +271,10 @@ VEACH_API VeachError veachGetSceneInt(VeachScene scene, const char* name, long l
 VEACH_API VeachError veachGetSceneFloat(VeachScene scene, const char* name, double* value) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachGetSceneFloat");
-        check_kind(name, OptionKind::Float);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::Float);
         if (!value) throw invalid("veachGetSceneFloat: null value pointer");
-        std::string n = name;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        if (n == "env_strength")
-            *value = scene->m_options.environment.strength;
-        else if (n == "env_rotate")
-            *value = scene->m_options.environment.rotate_degrees;
-        else if (n == "time")
-            *value = scene->m_options.import.animate ? scene->m_options.time : std::numeric_limits<double>::quiet_NaN();
+        *value = get_scene_option(scene, *spec).f;  // every scene float is an option
         return VEACH_ERROR_NONE;
     });
 }
@@ -368,30 +283,20 @@ VEACH_API VeachError veachGetSceneString(VeachScene scene, const char* name, cha
                                          size_t* length) {
     return guarded<VeachError>(scene ? scene->m_device : nullptr, VEACH_ERROR_INVALID_ARGUMENT, [&] {
         check_scene(scene, "veachGetSceneString");
-        check_kind(name, OptionKind::String);
+        const veach::OptionSpec* spec = option(name, veach::OptionKind::String);
         if (!buffer && size > 0) throw invalid("veachGetSceneString: null buffer");
         std::string n = name, value;
         std::lock_guard<std::mutex> lock(scene->m_mutex);
-        if (n == "variant")
-            value = scene->m_options.import.variant;
-        else if (n == "spot_falloff")
-            value = veach::spot_profile_name(scene->m_options.import.spot_profile);
-        else if (n == "default_material")
-            value = veach::default_material_name(scene->m_options.import.default_material);
-        else if (n == "env_map")
-            value = scene->m_options.environment.map_path;
-        else if (n == "env_color")
-            value = scene->m_env_color;
-        else if (n == "animation")
-            value = scene->m_options.import.animation;
-        else if (n == "shutter")
-            value = scene->m_shutter;
+        if (spec)
+            value = get_scene_option(scene, *spec).s;
         else {
             check_loaded(scene, "veachGetSceneString");
             if (n == "source")
                 value = scene->m_source;
             else if (n == "features") {
                 for (const std::string& f : scene->m_load.scene.features.names()) value += (value.empty() ? "" : "\n") + f;
+            } else if (n == "info") {
+                value = veach::scene_info_json(scene->m_load.scene);
             } else if (n == "warnings") {
                 for (const std::string& w : scene->m_load.scene.warnings) value += (value.empty() ? "" : "\n") + w;
             }

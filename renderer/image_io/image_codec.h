@@ -19,7 +19,7 @@
 namespace veach::image_io {
 
 // Changed whenever anything in this header changes: a module built from another header refuses.
-constexpr int k_interface_version = 1;
+constexpr int k_interface_version = 2;
 
 enum class SampleType { uint8, uint16, half, float32 };
 
@@ -30,7 +30,9 @@ struct Header {
     bool eight_bit = false;   // the file stores 8-bit samples
     std::string color_space;  // the reader's colour space attribute ("sRGB", "Linear", ... or "")
     std::string description;  // ImageDescription, "" when absent
-    std::vector<std::pair<std::string, std::string>> string_attributes;  // every string attribute
+    // Every string, integer and float attribute, numbers as text (integers in decimal, floats as
+    // the shortest text that reads back as the same float).
+    std::vector<std::pair<std::string, std::string>> attributes;
 };
 
 // An opened image: its header, then its pixels on request, so a caller can charge the decoded
@@ -45,12 +47,14 @@ public:
                                std::string& error) = 0;
 };
 
-// One attribute of an image to write, a string or an integer, kept in the order given.
+// One attribute of an image to write, a string, an integer or a float, kept in the order given.
 struct Attribute {
+    enum class Kind { Text, Integer, Float };
     std::string name;
     std::string text;
     int integer = 0;
-    bool is_integer = false;
+    float number = 0;
+    Kind kind = Kind::Text;
 };
 
 // An image to encode into memory.

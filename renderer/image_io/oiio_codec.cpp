@@ -3,6 +3,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <charconv>
 #include <cstring>
 #include <exception>
 
@@ -35,8 +36,19 @@ public:
         m_header.eight_bit = spec.format.basetype == OIIO::TypeDesc::UINT8;
         m_header.color_space = spec.get_string_attribute("oiio:ColorSpace");
         m_header.description = spec.get_string_attribute("ImageDescription");
-        for (const OIIO::ParamValue& p : spec.extra_attribs)
-            if (p.type() == OIIO::TypeString) m_header.string_attributes.emplace_back(p.name().string(), p.get_string());
+        for (const OIIO::ParamValue& p : spec.extra_attribs) {
+            if (p.nvalues() != 1) continue;
+            if (p.type() == OIIO::TypeString)
+                m_header.attributes.emplace_back(p.name().string(), p.get_string());
+            else if (p.type() == OIIO::TypeInt)
+                m_header.attributes.emplace_back(p.name().string(), std::to_string(p.get_int()));
+            else if (p.type() == OIIO::TypeFloat) {
+                char text[32];
+                const float v = p.get_float();
+                auto [end, ec] = std::to_chars(text, text + sizeof(text), v);
+                m_header.attributes.emplace_back(p.name().string(), std::string(text, ec == std::errc() ? end : text));
+            }
+        }
     }
     ~OiioDecoder() override { m_input->close(); }
 
@@ -111,8 +123,10 @@ private:
             spec.z_channel = r.z_channel;
         }
         for (const Attribute& a : r.attributes) {
-            if (a.is_integer)
+            if (a.kind == Attribute::Kind::Integer)
                 spec.attribute(a.name, a.integer);
+            else if (a.kind == Attribute::Kind::Float)
+                spec.attribute(a.name, a.number);
             else
                 spec.attribute(a.name, a.text);
         }

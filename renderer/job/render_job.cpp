@@ -14,6 +14,7 @@
 #include "scene/scene_content_error.h"
 #include "denoise/denoise.h"
 #include "film/film_checkpoint.h"
+#include "options/option_table.h"
 
 namespace veach {
 
@@ -51,12 +52,26 @@ void check_scene_extent(const Scene& scene, PreparedSceneCache* prepared) {
     }
 }
 
+// A render too large for the memory the process may still take is refused before anything is
+// allocated: a 16384x16384 film needs about 4 GiB, and an OOM kill says nothing.
+void check_render_memory(const Scene& scene, const RenderJobOptions& options, int width, int height) {
+    const RenderMemory need = estimate_render_memory(scene, options, width, height);
+    const uint64_t available = available_memory_bytes();
+    if (need.total() > available) {
+        auto mib = [](uint64_t b) { return std::to_string(b >> 20) + " MiB"; };
+        throw std::invalid_argument("a " + std::to_string(width) + "x" + std::to_string(height) + " render needs " +
+                                    mib(need.total()) + " (film " + mib(need.film) + ", texture mip levels " +
+                                    mib(need.mips) + "), more than the " + mib(available) + " of memory available");
+    }
+}
+
+}  // namespace
+
 // The memory a render allocates beyond the loaded scene: the film's per-pixel sums, splats,
 // adaptive-sampling plan, AOV sums, the resolved image and its passes, a checkpoint's copy of the
 // state and the encoded output; then the mip pyramids textures build lazily (a third of each
-// texture). Compared with what the process may still take (cgroup and ulimit included) before
-// anything is allocated: a 16384x16384 film needs about 4 GiB, and an OOM kill says nothing.
-void check_render_memory(const Scene& scene, const RenderJobOptions& options, int width, int height) {
+// texture).
+RenderMemory estimate_render_memory(const Scene& scene, const RenderJobOptions& options, int width, int height) {
     uint64_t per_pixel = sizeof(Film::PixelSums) + 3 * sizeof(double)  // sums, splats
                          + sizeof(uint32_t) + 3 * sizeof(double)       // adaptive plan, pilot splats
                          + (4 + 3 + 1) * sizeof(float)                 // resolved RGBA, variance, counts
@@ -72,21 +87,20 @@ void check_render_memory(const Scene& scene, const RenderJobOptions& options, in
                      denoise_scratch_bytes(1, 1);
     if (options.checkpoint.write)
         per_pixel += (7 + 3 + (options.film.aovs ? 8 : 0) + (options.film.alpha ? 1 : 0)) * sizeof(double);
-    const uint64_t film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
-    uint64_t mips = 0;
+    if (options.snapshots) per_pixel += (4 + 3 + 1) * sizeof(float);  // the snapshot's resolved image
+    RenderMemory m;
+    m.film = per_pixel * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
     for (const Texture& t : scene.textures)
         if (t.mipmaps && !t.nearest)  // only what can be built: a third of the image, 8-bit levels for 8-bit images
-            mips += (t.texels8.empty() ? t.stored_values() * sizeof(float) : t.texels8.size()) / 3;
-    const uint64_t available = available_memory_bytes();
-    if (film + mips > available) {
-        auto mib = [](uint64_t b) { return std::to_string(b >> 20) + " MiB"; };
-        throw std::invalid_argument("a " + std::to_string(width) + "x" + std::to_string(height) + " render needs " +
-                                    mib(film + mips) + " (film " + mib(film) + ", texture mip levels " + mib(mips) +
-                                    "), more than the " + mib(available) + " of memory available");
-    }
+            m.mips += (t.texels8.empty() ? t.stored_values() * sizeof(float) : t.texels8.size()) / 3;
+    return m;
 }
 
-}  // namespace
+void resolve_image_size(const Scene& scene, const RenderJobOptions& options, int* width, int* height) {
+    const Camera* camera = select_camera(scene, options.camera);
+    *width = options.width > 0 ? options.width : 1920;
+    *height = options.height > 0 ? options.height : CameraModel::default_height(camera, *width);
+}
 
 void denoise_image(FilmHalves halves, Image* image, VarianceSource variance) {
     const size_t n = static_cast<size_t>(image->width) * image->height;
@@ -117,36 +131,36 @@ void denoise_image(FilmHalves halves, Image* image, VarianceSource variance) {
 }
 
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control,
-                          PreparedSceneCache* prepared) {
+                          PreparedSceneCache* prepared, const SnapshotSink* snapshots) {
     using clock = std::chrono::steady_clock;
     const Camera* camera = select_camera(scene, options.camera);
     int width = options.width > 0 ? options.width : 1920;
     int height = options.height > 0 ? options.height : CameraModel::default_height(camera, width);
     if (width > 65536 || height > 65536) throw std::invalid_argument("image size over 65536 pixels");
-    if (options.render.spp < 1) throw std::invalid_argument("--spp must be at least 1");
-    if (options.render.max_depth < 0) throw std::invalid_argument("--max-depth must not be negative");
+    if (options.render.spp < 1) throw std::invalid_argument("spp must be at least 1");
+    if (options.render.max_depth < 0) throw std::invalid_argument("max_depth must not be negative");
     const PartSettings& part = options.part;
     const int sample_end = part.sample_end > 0 ? part.sample_end : options.render.spp;
     if (part.sample_begin < 0 || part.sample_begin >= sample_end || sample_end > options.render.spp)
-        throw std::invalid_argument("--samples " + std::to_string(part.sample_begin) + ":" +
-                                    std::to_string(sample_end) + " is not within --spp " +
-                                    std::to_string(options.render.spp) + " (0 <= A < B <= spp)");
+        throw std::invalid_argument("sample_begin:sample_end " + std::to_string(part.sample_begin) + ":" +
+                                    std::to_string(sample_end) + " is not within spp " +
+                                    std::to_string(options.render.spp) + " (0 <= begin < end <= spp)");
     const bool sample_range = part.sample_begin > 0 || sample_end < options.render.spp;
     if (sample_range && (options.render.noise_target != 0 || options.render.time_limit > 0))
-        throw std::invalid_argument("--samples cannot be combined with --noise or --time");
+        throw std::invalid_argument("a sample range (sample_begin, sample_end) cannot be combined with noise or time_limit");
     if (part.has_bounds && options.render.noise_target != 0)
-        throw std::invalid_argument("--pixelbounds cannot be combined with --noise");
+        throw std::invalid_argument("pixelbounds cannot be combined with noise");
     // Part files hold no halves: the denoiser needs both, and a part is not an image.
     if (options.denoise && (sample_range || part.has_bounds))
         throw std::invalid_argument(
-            "--denoise cannot be combined with parts (--samples, --pixelbounds): part files do not carry the "
-            "half images the denoiser needs; denoise the merged image's render instead");
+            "denoise cannot be combined with parts (sample_begin, sample_end, pixelbounds): part files do not carry "
+            "the half images the denoiser needs; denoise the merged image's render instead");
     // Part files hold no coverage: a merged transparent render would come back opaque.
     if ((sample_range || part.has_bounds) && (options.render.transparent || options.film.alpha))
-        throw std::invalid_argument("a transparent film cannot be rendered in parts (--samples, --pixelbounds)");
+        throw std::invalid_argument("a transparent film cannot be rendered in parts (sample_begin, sample_end, pixelbounds)");
     if (part.has_bounds &&
         (part.x0 < 0 || part.x0 >= part.x1 || part.x1 > width || part.y0 < 0 || part.y0 >= part.y1 || part.y1 > height))
-        throw std::invalid_argument("--pixelbounds " + std::to_string(part.x0) + "," + std::to_string(part.x1) + "," +
+        throw std::invalid_argument("pixelbounds " + std::to_string(part.x0) + "," + std::to_string(part.x1) + "," +
                                     std::to_string(part.y0) + "," + std::to_string(part.y1) + " is not within the " +
                                     std::to_string(width) + "x" + std::to_string(height) +
                                     " image (0 <= X0 < X1 <= width, 0 <= Y0 < Y1 <= height)");
@@ -187,12 +201,35 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
         settings.spp = std::max(settings.spp, result.resumed_spp);
         session.first_sample = result.resumed_spp;
     }
-    if (cp.write && !cp.path.empty()) {
+    // Each camera sample traced one light path (bdpt, lt), an estimate of the whole light image:
+    // splats average over the paths per pixel of the frame, which for the whole render is spp.
+    auto splat_spp = [&](int spp_done) {
+        const double samples = static_cast<double>(spp_done - part.sample_begin);
+        return part.whole() ? spp_done
+                            : samples * static_cast<double>(static_cast<uint64_t>(bounds.x1 - bounds.x0) *
+                                                            static_cast<uint64_t>(bounds.y1 - bounds.y0)) /
+                                  (static_cast<double>(width) * height);
+    };
+    const bool checkpointing = cp.write && !cp.path.empty();
+    if (checkpointing || snapshots || control.pass_done) {
         auto last = clock::now();
         session.pass_done = [&, last](int spp_done) mutable {
             if (control.pass_done) control.pass_done(spp_done);
+            if (snapshots && snapshots->wanted && snapshots->take && snapshots->wanted()) {
+                auto snap = std::make_shared<RenderResult>();
+                snap->image = film.resolve(splat_spp(spp_done));
+                snap->stats.spp_done = spp_done;
+                snap->camera_name = result.camera_name;
+                snap->integrator = result.integrator;
+                snap->resumed_spp = result.resumed_spp;
+                snap->render_seconds = std::chrono::duration<double>(clock::now() - t1).count();
+                snap->part.width = width, snap->part.height = height;
+                snap->part.sample_begin = part.sample_begin;
+                snap->part.x0 = bounds.x0, snap->part.x1 = bounds.x1, snap->part.y0 = bounds.y0, snap->part.y1 = bounds.y1;
+                snapshots->take(std::move(snap));
+            }
             // The finished image is written right after the last pass: no state to keep then.
-            if (spp_done >= settings.spp) return;
+            if (!checkpointing || spp_done >= settings.spp) return;
             if (std::chrono::duration<double>(clock::now() - last).count() < cp.interval_seconds) return;
             write_film_checkpoint(cp.path, film, hash, spp_done);
             last = clock::now();
@@ -218,13 +255,7 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     info.integrator = result.integrator;
     info.filter = options.film.filter;
     info.render_seconds = result.render_seconds;
-    // Each camera sample traced one light path (bdpt, lt), an estimate of the whole light image:
-    // splats average over the paths per pixel of the frame, which for the whole render is spp.
-    const double samples = static_cast<double>(result.stats.spp_done - part.sample_begin);
-    const double splat_spp = part.whole()
-                                 ? result.stats.spp_done
-                                 : samples * static_cast<double>(info.area()) / (static_cast<double>(width) * height);
-    result.image = film.resolve(splat_spp);
+    result.image = film.resolve(splat_spp(result.stats.spp_done));
     if (options.denoise) {
         const auto t3 = clock::now();
         // The variance pass is the camera samples': all of pt's noise, part of bdpt's (not its
@@ -232,7 +263,7 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
         const VarianceSource variance = !film.has_splats()                      ? VarianceSource::whole
                                         : integrator->pixels_hold_estimates() ? VarianceSource::partial
                                                                               : VarianceSource::none;
-        denoise_image(film.resolve_halves(splat_spp), &result.image, variance);
+        denoise_image(film.resolve_halves(splat_spp(result.stats.spp_done)), &result.image, variance);
         result.denoise_seconds = std::chrono::duration<double>(clock::now() - t3).count();
     }
     result.film = std::move(film_ptr);
@@ -240,30 +271,19 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
 }
 
 uint64_t render_settings_hash(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {
-    const RenderSettings& r = options.render;
-    HashKey key("veach-render-v2");
-    // Only when on, so that every opaque render keeps the identity it had before the option.
-    if (r.transparent || options.film.alpha) key.field("transparent", 1);
-    if (options.denoise) key.field("denoise", 1);  // its checkpoints hold the halves
-    // Another version may sample differently: its checkpoints and parts are another render.
-    return key
-        .field("version", VEACH_VERSION_STRING)
-        .field("width", width)
-        .field("height", height)
-        .field("camera", camera_name)
-        .field("seed", r.seed)
-        .field("integrator", r.integrator)
-        .field("max_depth", r.max_depth)
-        .field("bdpt_s", r.bdpt_s)
-        .field("bdpt_t", r.bdpt_t)
-        .field("filter", filter_name(options.film.filter.type))
-        .field("filter_width", options.film.filter.width)
-        .field("aovs", options.film.aovs)
-        .field("scene", options.checkpoint.scene_hash)
-        .field("sampler", static_cast<int>(r.sampler))
-        .field("noise", r.noise_target)
-        .field("min_spp", r.min_spp)
-        .value();
+    // The options table's identity rows (options/option_table.h), with the size and camera the
+    // render resolved (a default width and the camera's aspect are the same render as asking
+    // for them), then what is not an option: the version (another may sample differently: its
+    // checkpoints and parts are another render), the scene's identity and the adaptive pilot.
+    RenderJobOptions resolved = options;
+    resolved.width = width;
+    resolved.height = height;
+    resolved.camera = camera_name;
+    OptionTargets targets{nullptr, &resolved, nullptr, nullptr};
+    HashKey key("veach-render-v3");
+    key.field("version", VEACH_VERSION_STRING);
+    hash_identity_options(key, OptionObject::Render, targets);
+    return key.field("scene", options.checkpoint.scene_hash).field("min_spp", options.render.min_spp).value();
 }
 
 uint64_t checkpoint_key(const RenderJobOptions& options, const std::string& camera_name, int width, int height) {

@@ -3,6 +3,8 @@
 // over this, and every front end (the `veach` command included) goes through the C API.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,7 @@ struct RenderJobOptions {
     // result's image is the denoised one, the rendered one kept as its `noisy` pass. Whole
     // renders only (part files carry no halves).
     bool denoise = false;
+    bool snapshots = false;  // resolve the film at every pass boundary (SnapshotSink), not only when asked
 };
 
 struct RenderResult {
@@ -61,6 +64,15 @@ struct RenderResult {
     std::vector<std::string> warnings;  // said once each, for the front end to print
     std::shared_ptr<const Film> film;   // the sums behind `image` (what a part file holds)
     PartInfo part;                      // the piece of the render this is (the whole by default)
+};
+
+// Progressive snapshots: at each pass boundary (every pixel holds the pass's samples, no tile
+// renders) the job asks `wanted`, and when it says yes resolves the film so far into an image
+// and hands `take` a result describing it (image, spp_done, part, camera, integrator, seconds),
+// as a finished render's would. Called on the rendering thread.
+struct SnapshotSink {
+    std::function<bool()> wanted;
+    std::function<void(std::shared_ptr<const RenderResult>)> take;
 };
 
 // Throws std::invalid_argument with a one-line message when `spec` names no camera.
@@ -80,7 +92,20 @@ uint64_t checkpoint_key(const RenderJobOptions& options, const std::string& came
 // With `prepared`, the BVH and light tables come from (and stay in) that cache: a sequence's
 // frames update them instead of building them again.
 RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, const RenderControl& control = {},
-                          PreparedSceneCache* prepared = nullptr);
+                          PreparedSceneCache* prepared = nullptr, const SnapshotSink* snapshots = nullptr);
+
+// The memory a render of `options` at width x height allocates beyond the loaded scene (what the
+// render checks against the memory available before it starts, and `veach info` reports).
+struct RenderMemory {
+    uint64_t film = 0;  // the film, its passes, a checkpoint's copy, the encoded output
+    uint64_t mips = 0;  // texture mip levels built on first use
+    uint64_t total() const { return film + mips; }
+};
+RenderMemory estimate_render_memory(const Scene& scene, const RenderJobOptions& options, int width, int height);
+
+// The image size a render of `options` has: the width (1920 unless set) and the height (from
+// the camera's aspect ratio unless set). Throws std::invalid_argument for an unknown camera.
+void resolve_image_size(const Scene& scene, const RenderJobOptions& options, int* width, int* height);
 
 // Replaces image's colour by the denoised one (alpha as it was), keeping the rendered colour as
 // its `noisy` pass and the features as its denoising passes. `variance`: how much of the

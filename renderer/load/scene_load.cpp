@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/content_hash.h"
+#include "options/option_table.h"
 #include "scene/mesh_corners.h"
 #include "scene/scene_animation.h"
 #include "scene/scene_motion.h"
@@ -22,27 +23,14 @@ uint64_t environment_map_hash(const EnvironmentOptions& env) {
     return map;
 }
 
-// Every load option by exact bytes, after the content of what was read (core/content_hash.h).
+// Every identity row of the options table (options/option_table.h) by exact bytes, after the
+// content of what was read (core/content_hash.h); the map's path is not one, its content is.
 uint64_t scene_identity(const SceneLoadOptions& options, uint64_t file_hash, uint64_t env_map_hash) {
-    const ImportOptions& import = options.import;
-    const EnvironmentOptions& env = options.environment;
-    HashKey key("veach-scene-v2");
-    key.field("content", file_hash)
-        .field("scene", import.scene_index)
-        .field("variant", import.variant)
-        .field("spot", spot_profile_name(import.spot_profile))
-        .field("default_material", default_material_name(import.default_material))
-        .field("env_map", !env.map_path.empty())
-        .field("env_has_color", env.has_color)
-        .field("env_r", env.color.r)
-        .field("env_g", env.color.g)
-        .field("env_b", env.color.b)
-        .field("env_strength", env.strength)
-        .field("env_rotate", env.rotate_degrees);
-    // Only a posed scene names its time: an unanimated one keeps the identity it always had.
-    if (import.animate) key.field("time", options.time).field("animation", import.animation);
-    // Likewise only a motion-blurred scene names its shutter.
-    if (options.motion_blur()) key.field("shutter_open", options.shutter_open).field("shutter_close", options.shutter_close);
+    SceneLoadOptions copy = options;
+    OptionTargets targets{&copy, nullptr, nullptr, nullptr};
+    HashKey key("veach-scene-v3");
+    key.field("content", file_hash).field("env_map", !options.environment.map_path.empty());
+    hash_identity_options(key, OptionObject::Scene, targets);
     key.field("env_map_content", env_map_hash);
     return key.value();
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -112,11 +113,34 @@ void set_shape(Encoded& enc, int width, int height, int channels, image_io::Samp
 }
 
 void add_attribute(Encoded& enc, const std::string& name, const std::string& text) {
-    enc.request.attributes.push_back({name, text, 0, false});
+    enc.request.attributes.push_back({name, text, 0, 0, image_io::Attribute::Kind::Text});
 }
 
 void add_attribute(Encoded& enc, const std::string& name, int value) {
-    enc.request.attributes.push_back({name, std::string(), value, true});
+    enc.request.attributes.push_back({name, std::string(), value, 0, image_io::Attribute::Kind::Integer});
+}
+
+// Metadata whose text is a number is written as one (an int attribute for a whole number that
+// fits, else a float), so that a reader gets numbers: "64" an int, "1.25" a float, "0:16" text.
+void add_metadata_attribute(Encoded& enc, const std::string& name, const std::string& text) {
+    const char* begin = text.data();
+    const char* end = begin + text.size();
+    long long whole = 0;
+    auto [p, ec] = std::from_chars(begin, end, whole);
+    if (!text.empty() && ec == std::errc() && p == end && whole >= INT32_MIN && whole <= INT32_MAX &&
+        (text.size() == 1 || text[0] != '0')) {
+        add_attribute(enc, name, static_cast<int>(whole));
+        return;
+    }
+    double number = 0;
+    auto [q, ec2] = std::from_chars(begin, end, number);
+    if (!text.empty() && ec2 == std::errc() && q == end && std::isfinite(number) &&
+        text.find_first_of("eE.") != std::string::npos && text.find_first_not_of("0123456789.eE+-") == std::string::npos) {
+        enc.request.attributes.push_back({name, std::string(), 0, static_cast<float>(number),
+                                          image_io::Attribute::Kind::Float});
+        return;
+    }
+    add_attribute(enc, name, text);
 }
 
 // One pass of a multi-layer EXR: Blender's layer name, its channel suffixes and where its values
@@ -138,6 +162,7 @@ const PassLayout k_pass_layouts[] = {
     {"denoising_normal", "Denoising Normal", "XYZ", &Image::denoising_normal, 3},
     {"denoising_albedo", "Denoising Albedo", "RGB", &Image::denoising_albedo, 3},
     {"denoising_depth", "Denoising Depth", "Z", &Image::denoising_depth, 1},
+    {"samples", "Sample Count", "X", &Image::sample_count, 1},
 };
 
 // The view layer Blender names its passes under by default.
@@ -368,7 +393,13 @@ void write_image(const Image& image, const std::string& path, const OutputSettin
     // Everything that can fail before touching the disk (display transform, settings) happens
     // here, so a bad setting never creates a temp file.
     Encoded enc = encode(image, path, info, settings);
-    for (const auto& [key, value] : settings.metadata) add_attribute(enc, key, value);
+    // EXR keeps typed attributes; PNG's text chunks (and the description of JPEG and TIFF) keep text.
+    for (const auto& [key, value] : settings.metadata) {
+        if (info.format == Format::exr)
+            add_metadata_attribute(enc, key, value);
+        else
+            add_attribute(enc, key, value);
+    }
     if ((info.format == Format::jpeg || info.format == Format::tiff) && !settings.metadata.empty() &&
         !settings.metadata.count("ImageDescription")) {
         // JPEG (EXIF) and TIFF only keep fixed tags, so our own keys would be dropped: they travel
@@ -437,7 +468,7 @@ bool read_image_metadata(const std::string& path, std::map<std::string, std::str
         return false;
     }
     const image_io::Header& header = input->header();
-    for (const auto& [key, value] : header.string_attributes) metadata.emplace(key, value);
+    for (const auto& [key, value] : header.attributes) metadata.emplace(key, value);
     if (info.format == Format::jpeg || info.format == Format::tiff) parse_description(header.description, metadata);
     return true;
 }

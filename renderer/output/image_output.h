@@ -6,6 +6,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "film/film.h"
@@ -34,7 +35,12 @@ struct OutputSettings {
     std::vector<std::string> passes;
     int quality = 95;                             // JPEG
     int bits = 8;                                 // PNG/TIFF: 8 or 16
-    std::map<std::string, std::string> metadata;  // written as string attributes
+    // Written as attributes: numbers (a whole number that fits an int, a decimal) as int and
+    // float attributes, anything else as a string; JPEG/TIFF in their description, HDR as header lines.
+    std::map<std::string, std::string> metadata;
+    // The host's own attributes (the render option "attributes", the command's --attrib), added
+    // to `metadata` when an image is written.
+    std::vector<std::pair<std::string, std::string>> user_attributes;
 };
 
 // True for formats written scene-linear (no display transform).

@@ -244,6 +244,7 @@ struct Scene {
     Environment environment;
     std::vector<std::string> warnings;  // each said once, for the front end to print
     SceneFeatures features;
+    SceneCatalog catalog;
     RepairCounts repaired;
     // Nodes, animations, skins and morph targets, when the import was asked for them
     // (ImportOptions::animate); scene_animation.h's pose_scene evaluates them at a time.

@@ -25,4 +25,12 @@ struct SceneFeatures {
     std::vector<std::string> names() const;
 };
 
+// What the file offers besides what was loaded, for a front end to list (`veach info`): its
+// scenes, KHR_materials_variants variants and animations, by name ("" for an unnamed one), in
+// the file's order; the scene the file names as its default (-1: none).
+struct SceneCatalog {
+    std::vector<std::string> scenes, variants, animations;
+    int default_scene = -1;
+};
+
 }  // namespace veach

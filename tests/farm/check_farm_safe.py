@@ -126,7 +126,8 @@ def metadata(path):
     if not inp:
         return {}
     spec = inp.spec()
-    out = {a.name: a.value for a in spec.extra_attribs if a.name.startswith("veach:")}
+    # Numbers are int/float attributes in EXR: compared as the text they print as.
+    out = {a.name: str(a.value) for a in spec.extra_attribs if a.name.startswith("veach:")}
     inp.close()
     return out
 

@@ -64,7 +64,8 @@ def make_checkpoint(veach, scene, out):
 
 def resumed_spp(path):
     spec = oiio.ImageBuf(path).spec()
-    return spec.get_string_attribute("veach:resumed_spp")
+    value = spec.getattribute("veach:resumed_spp")  # an int attribute in EXR
+    return "" if value is None else str(value)
 
 
 def with_version(data, old, new):

@@ -46,7 +46,7 @@ def load_animation_check():
 def mean_and_seed(path):
     buf = oiio.ImageBuf(path)
     pixels = np.asarray(buf.get_pixels(oiio.FLOAT))[..., :3]
-    return float(pixels.mean()), buf.spec().get_string_attribute("veach:seed")
+    return float(pixels.mean()), str(buf.spec().getattribute("veach:seed"))
 
 
 def main():

@@ -110,7 +110,8 @@ def pixels(path):
 
 
 def attribute(path, key):
-    return oiio.ImageBuf(path).spec().get_string_attribute(key)
+    value = oiio.ImageBuf(path).spec().getattribute(key)  # numbers are int/float attributes in EXR
+    return "" if value is None else str(value)
 
 
 def temporaries(folder):

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <iterator>
 #include <optional>
 #include <string>
@@ -328,19 +329,40 @@ TEST_F(ImageOutputTest, DisplaySettingsReachTheFile) {
     EXPECT_FALSE(fs::exists(file("bad.png")));
 }
 
-TEST_F(ImageOutputTest, MetadataIsWrittenAsStrings) {
+TEST_F(ImageOutputTest, MetadataIsWrittenWithNumbersAsNumbersInExr) {
     const Image img = smooth_image(8, 8);
     OutputSettings settings;
-    settings.metadata = {{"Software", "Veach 0.1.0"}, {"veach:spp", "256"}, {"veach:integrator", "pt"}};
+    settings.metadata = {{"Software", "Veach 0.1.0"}, {"veach:spp", "256"}, {"veach:integrator", "pt"},
+                         {"veach:render_seconds", "1.25"}, {"shot", "007"}, {"range", "0:16"}};
     for (const char* name : {"meta.exr", "meta.png", "meta.tif"}) {
         write_image(img, file(name), settings);
         ReadBack r = read_back(file(name));
         EXPECT_EQ(r.spec.get_string_attribute("Software"), "Veach 0.1.0") << name;
-        if (std::string(name) != "meta.tif") {
-            // TIFF only has fixed tags; EXR headers and PNG text chunks hold any key.
+        if (std::string(name) == "meta.exr") {
+            // EXR headers hold typed attributes: a whole number an int, a decimal a float, and
+            // text that only starts like a number ("007", "0:16") stays text.
+            const OIIO::ParamValue* spp = r.spec.find_attribute("veach:spp");
+            ASSERT_NE(spp, nullptr);
+            EXPECT_EQ(spp->type(), OIIO::TypeInt);
+            EXPECT_EQ(spp->get_int(), 256);
+            const OIIO::ParamValue* seconds = r.spec.find_attribute("veach:render_seconds");
+            ASSERT_NE(seconds, nullptr);
+            EXPECT_EQ(seconds->type(), OIIO::TypeFloat);
+            EXPECT_EQ(seconds->get_float(), 1.25f);
+            EXPECT_EQ(r.spec.get_string_attribute("shot"), "007");
+            EXPECT_EQ(r.spec.get_string_attribute("range"), "0:16");
+            EXPECT_EQ(r.spec.get_string_attribute("veach:integrator"), "pt");
+        } else if (std::string(name) == "meta.png") {
+            // PNG text chunks hold text only.
             EXPECT_EQ(r.spec.get_string_attribute("veach:spp"), "256") << name;
             EXPECT_EQ(r.spec.get_string_attribute("veach:integrator"), "pt") << name;
         }
+        // Read back through the writer's own reader, every value as its text (TIFF in its description).
+        std::map<std::string, std::string> meta;
+        std::string error;
+        ASSERT_TRUE(read_image_metadata(file(name), meta, error)) << error;
+        EXPECT_EQ(meta["veach:spp"], "256") << name;
+        EXPECT_EQ(meta["veach:render_seconds"], "1.25") << name;
     }
 }
 

@@ -31,7 +31,7 @@
 #include <stddef.h>
 
 #define VEACH_VERSION_MAJOR 0
-#define VEACH_VERSION_MINOR 7
+#define VEACH_VERSION_MINOR 8
 #define VEACH_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch, as veachGetVersion() returns it. */
 #define VEACH_VERSION (VEACH_VERSION_MAJOR * 10000 + VEACH_VERSION_MINOR * 100 + VEACH_VERSION_PATCH)
@@ -103,6 +103,9 @@ VEACH_API void veachSetDeviceErrorFunction(VeachDevice device, VeachErrorFunctio
 /* Device queries (since 0.2):
  *   int:    peak_memory_bytes (the process's peak resident set so far, 0 where unknown)
  *   string: integrators, filters, passes, exr_codecs (the names the options accept, one a line);
+ *           options (since 0.8: every scene and render option as a JSON array, one object each:
+ *           name, object ("scene" or "render"), type, default, min and max (numbers), choices
+ *           (names), help, identity (part of the render's identity), flag (the veach command's));
  *           color_config ("$OCIO=/path" or "built-in": the OpenColorIO config in use),
  *           color_displays, color_looks, color_views:DISPLAY (one a line). A config that cannot be
  *           read is VEACH_ERROR_BAD_INPUT. */
@@ -161,7 +164,10 @@ VEACH_API VeachScene veachNewSceneFromMemory(VeachDevice device, const void* dat
  * (repaired_invalid_indices, repaired_nonfinite_triangles, repaired_degenerate_triangles,
  * repaired_duplicate_triangles, repaired_normals_replaced, repaired_normals_normalized,
  * repaired_uvs_replaced, repaired_colors_replaced, repaired_lights_dropped); string source (the
- * path loaded), features (the scene features found), warnings (import warnings); and every option.
+ * path loaded), features (the scene features found), warnings (import warnings), info (since 0.8:
+ * JSON of what the scene holds: the file's scenes, variants and animations, cameras, lights by
+ * kind, meshes, instances, triangles, materials, textures with sizes, features, repairs); and
+ * every option.
  * A scene must be loaded before veachNewRender. */
 VEACH_API VeachScene veachNewScene(VeachDevice device);
 VEACH_API VeachError veachSetSceneInt(VeachScene scene, const char* name, long long value);
@@ -186,7 +192,10 @@ VEACH_API void veachRetainRender(VeachRender render);
 /* Releasing the last reference cancels a running render and waits for it. */
 VEACH_API void veachReleaseRender(VeachRender render);
 
-/* Options (the name decides the type; a wrong type or unknown name is VEACH_ERROR_INVALID_ARGUMENT):
+/* Options (the name decides the type; a wrong type or unknown name is VEACH_ERROR_INVALID_ARGUMENT,
+ * and so is a value outside the option's range, with a message naming the option: "spp must be
+ * at least 1"). Names, types, defaults and ranges are one table, which the device query
+ * "options" returns; since 0.8 width is 1 to 65536 and threads 0 to 4096, as the command's flags.
  *   int:    width (default 1920), height (0 = from the camera's aspect), spp (64), seed (0),
  *           max_depth (64), threads (0 = the CPUs the process may use: its affinity mask, lowered
  *           to a cgroup CPU quota, since 0.6), bits (PNG/TIFF: 8 or 16), quality (JPEG),
@@ -201,7 +210,9 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *           that hit geometry; not with sample_begin/sample_end or pixelbounds), denoise (since 0.7: 1 denoises the
  *           combined pass after the render, a feature-guided regression on two half images of
  *           the render (README "Denoising"), biased; the rendered image stays as the pass "noisy";
- *           not with sample_begin/sample_end or pixelbounds)
+ *           not with sample_begin/sample_end or pixelbounds), snapshots
+ *           (since 0.8: 1 keeps the film so far at every pass boundary for veachGetPass and
+ *           veachWriteImage during an asynchronous render)
  *   float:  time_limit (seconds, 0 = none), filter_width (pixels, default 1; Blender's default is
  *           1.5 for its smooth filters), exposure (stops), gamma,
  *           noise (adaptive sampling: a pixel stops once its estimated relative error is below
@@ -227,11 +238,12 @@ VEACH_API void veachReleaseRender(VeachRender render);
  *   every pixel completed), result_resumed_spp (from the checkpoint), result_complete (1 unless
  *   cancelled before the requested samples), result_camera_samples, result_rays,
  *   result_nonfinite_samples (dropped), result_threads (since 0.6: the worker threads the
- *   render ran on); float progress, eta_seconds, render_seconds,
- *   build_seconds, denoise_seconds (since 0.7: 0 without denoise); string result_camera,
- *   result_integrator (the one that rendered), result_strategies (since 0.7: what the default
- *   integrator "auto" chose, "pt" or "bdpt:" and its strategy families' letters; empty for the
- *   others), result_warnings. Every option can be read back too. */
+ *   render ran on), estimated_memory_bytes (since 0.8: what rendering with the current options
+ *   would allocate beyond the scene, the estimate the render checks before it starts); float
+ *   progress, eta_seconds, render_seconds, build_seconds, denoise_seconds (since 0.7: 0 without
+ *   denoise); string result_camera, result_integrator (the one that rendered), result_strategies
+ *   (since 0.7: what the default integrator "auto" chose, "pt" or "bdpt:" and its strategy
+ *   families' letters; empty for the others), result_warnings. Every option can be read back too. */
 VEACH_API VeachError veachSetInt(VeachRender render, const char* name, long long value);
 VEACH_API VeachError veachSetFloat(VeachRender render, const char* name, double value);
 VEACH_API VeachError veachSetString(VeachRender render, const char* name, const char* value);
@@ -260,7 +272,12 @@ VEACH_API VeachStatus veachGetRenderStatus(VeachRender render);
  * command does the former. */
 VEACH_API void veachCancelRender(VeachRender render);
 
-/* Copies a finished (or cancelled) render's pass into `dst`, which holds `dst_bytes` bytes: 4
+/* Copies a finished (or cancelled) render's pass into `dst`; during an asynchronous render (since
+ * 0.8) the film so far: resolved at a pass boundary, so every pass of it holds the same samples,
+ * and result_width, result_height and result_spp describe it. With the option snapshots = 1 one
+ * is kept at every pass boundary; without it a call during the render asks for the next
+ * boundary's, and until one exists the call is VEACH_ERROR_INVALID_OPERATION. The snapshot of
+ * the last pass equals the final image. `dst` which holds `dst_bytes` bytes: 4
  * floats per pixel, row 0 at the top, rows `row_stride_bytes` apart (0 = result_width * 4 *
  * sizeof(float)). A destination smaller than (result_height - 1) * stride + one row is refused
  * with VEACH_ERROR_INVALID_ARGUMENT before anything is written (since 0.6; 0.5's form without
@@ -276,13 +293,18 @@ VEACH_API void veachCancelRender(VeachRender render);
  * seen, through mirrors and smooth glass) and "denoising_depth" (z, z, z, 1: the first hit's). */
 VEACH_API VeachError veachGetPass(VeachRender render, const char* pass, float* dst, size_t dst_bytes,
                                   size_t row_stride_bytes);
-/* Writes the combined pass (and for EXR the `passes` option's layers) through the output driver:
+/* Writes the combined pass (and for EXR the `passes` option's layers) through the output driver
+ * (during an asynchronous render, since 0.8: the film so far, as veachGetPass gives it, tagged
+ * veach:complete "no"; not a .vpart):
  * format from the extension (.exr .hdr .png .jpg .tif); EXR/HDR scene-linear, PNG/JPEG/TIFF
  * through the OpenColorIO view (display, view, look, exposure, gamma), with the bits, quality,
- * half and exr_codec options. Metadata: Software, veach:scene, veach:camera, veach:spp,
+ * half and exr_codec options; numeric metadata as int and float attributes (since 0.8), the
+ * option attributes' NAME=VALUE lines added. Metadata: Software, veach:scene, veach:camera, veach:spp,
  * veach:spp_requested, veach:complete, veach:seed, veach:integrator, veach:filter,
  * veach:render_seconds (and veach:resumed_spp; for a part, veach:samples "A:B" unless it starts at
- * sample 0 of the whole frame, and veach:pixelbounds for a tile). Atomic: never a half-written file.
+ * sample 0 of the whole frame, and veach:pixelbounds for a tile; with noise > 0, since 0.8,
+ * veach:spp is the fewest samples any pixel took, with veach:spp_mean and veach:spp_max; the
+ * "samples" pass is the EXR layer "Sample Count"). Atomic: never a half-written file.
  * A path ending in .vpart (since 0.4) writes a part file instead: the film's exact double sums for
  * the render's sample range and pixel bounds, its light-tracing splats over the whole frame, and
  * the render's identity (a hash of every image-shaping setting and of the content, never the
