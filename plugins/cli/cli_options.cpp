@@ -545,6 +545,10 @@ CommandLine parse_command_line(int argc, char** argv, VeachDevice device) {
     CLI::App app{"Renders glTF 2.0 scenes (.gltf, .glb) with a physically based path tracer.", "veach"};
     app.set_version_flag("--version", version);
     app.allow_extras();
+    // A flag given twice takes its last value, as the hand-written parser did: farm templates
+    // append the user's flags after their own (veach-part.sbatch's --checkpoint 60 ... --checkpoint 0).
+    // The subcommands copy these defaults when they are added; -o and --attrib keep every value.
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.footer(k_footer);
     const std::vector<TableOption> table = read_option_table(device);
 

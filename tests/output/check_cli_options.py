@@ -128,6 +128,11 @@ def cli11_behaviours(veach, scene, out, folder):
     a = dry_run(veach, scene, out, "--spp=16", "--nthreads", "3")
     b = dry_run(veach, scene, out, "--spp", "16", "--threads=3")
     check(a == b and a["render"]["spp"] == 16 and a["render"]["threads"] == 3, f"--spp=16 / --nthreads: {a} {b}")
+    # A flag given twice takes its last value, the command's own flags too (a farm template appends
+    # the user's flags after its own: veach-part.sbatch's --checkpoint 60 before the user's --checkpoint 0).
+    got = dry_run(veach, scene, out, "--spp", "4", "--checkpoint", "60", "--resume", "--checkpoint", "0",
+                  "--frame", "1", "--frame", "2", "-q", "-q", "--spp", "8")
+    check(got is not None and got["render"]["spp"] == 8, f"a flag given twice: {got and got['render']['spp']}")
     c = run(veach, "render", scene, "--outfile", out, "--dry-run")
     check(c.returncode == 0 and json.loads(c.stdout)["outputs"] == [out], f"--outfile: {c.returncode} {c.stderr}")
     # Presets for farms: a TOML and an INI file; the command line's own flags win.
