@@ -123,7 +123,7 @@ TEST(OptionTable, EveryOptionHasItsDefaultTakesItsRangeAndRefusesBeyondIt) {
         } else {
             EXPECT_EQ(t.get_string(n), row.at("default").get<std::string>());
             if (row.contains("choices")) {
-                for (const std::string& choice : row.at("choices")) {
+                for (const std::string choice : row.at("choices")) {
                     EXPECT_EQ(t.set_string(n, choice), VEACH_ERROR_NONE) << veachGetLastError();
                     EXPECT_EQ(t.get_string(n), choice);
                 }
