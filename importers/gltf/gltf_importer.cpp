@@ -2,6 +2,7 @@
 // is treated as untrusted and checked here (references, ranges, counts) before use.
 #include "importers/gltf/gltf_importer.h"
 
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <climits>
@@ -34,6 +35,7 @@
 #include "importers/gltf/gltf_json_chunk.h"
 #include "importers/gltf/gltf_materials.h"
 #include "importers/gltf/gltf_meshopt.h"
+#include "importers/gltf/spec_range.h"
 #include "scene/light_units.h"
 #include "scene/mesh_tangents.h"
 
@@ -593,7 +595,8 @@ void GltfImporter::parse_blender_light(const tinygltf::Value* ext, const std::st
         def->area = round ? AreaShape::Ellipse : AreaShape::Rectangle;
         def->size_x = std::max(0.0, size[0]);
         def->size_y = std::max(0.0, (shape_name == "square" || shape_name == "disk") ? size[0] : size[1]);
-        def->power = std::max(0.0, gltf::json_number(ext, "power", 0.0));
+        def->power = gltf::in_range(gltf::json_number(ext, "power", 0.0), 0.0, double(k_max_light_intensity),
+                                    "area light power", *m_context);
         double spread = gltf::json_number(ext, "spread", k_pi);
         if (std::fabs(spread - k_pi) > 1e-3)
             m_context->warn(label + ": area light spread of " + std::to_string(int(std::lround(spread * 180 / k_pi))) +
@@ -626,11 +629,15 @@ void GltfImporter::parse_lights() {
             def.type = LightType::Directional;
         else
             m_context->warn(label + " has unknown type '" + type_name + "'; ignored");
-        double color[3] = {1, 1, 1};
-        if (gltf::json_member(&v, "color") && !gltf::json_numbers(gltf::json_member(&v, "color"), color, 3))
+        std::array<double, 3> color = {1, 1, 1};
+        if (gltf::json_member(&v, "color") && !gltf::json_numbers(gltf::json_member(&v, "color"), color.data(), 3))
             m_context->warn(label + " has an invalid color; using white");
+        // The extension's ranges: colour in [0, 1], intensity non-negative (and at most
+        // k_max_light_intensity): a negative light would render black, an overflowing one be lost.
+        gltf::in_range(color, 0.0, 1.0, "light color", *m_context);
         def.color = Rgb(float(color[0]), float(color[1]), float(color[2]));
-        def.intensity = gltf::json_number(&v, "intensity", 1.0);
+        def.intensity = gltf::in_range(gltf::json_number(&v, "intensity", 1.0), 0.0, double(k_max_light_intensity),
+                                       "light intensity", *m_context);
         def.range = gltf::json_number(&v, "range", 0.0);
         const tinygltf::Value* spot = gltf::json_member(&v, "spot");
         def.inner_cone = gltf::json_number(spot, "innerConeAngle", 0.0);

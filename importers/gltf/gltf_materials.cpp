@@ -26,6 +26,7 @@
 #include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
+#include "importers/gltf/spec_range.h"
 #include "scene/light_units.h"
 #include "textures/image_reader.h"
 
@@ -66,23 +67,8 @@ std::string stb_reason() {
     return reason ? reason : "unknown error";
 }
 
-// A factor held to the range the glTF spec (or its extension) gives it, with one warning per
-// kind: a 1e30 base colour would otherwise reach the image as 1e30 times the light, and a
-// negative colour as negative light. Emission strength is held to k_max_emission_strength
-// (scene/light_units.h).
-
-double in_range(double v, double lo, double hi, const char* kind, ImportContext& context) {
-    if (v >= lo && v <= hi) return v;
-    char range[64];
-    std::snprintf(range, sizeof(range), "[%g, %g]", lo, hi);
-    context.warn(std::string(kind) + " outside its range " + range + " clamped");
-    return std::isnan(v) ? lo : std::clamp(v, lo, hi);
-}
-
-template <size_t N>
-void in_range(std::array<double, N>& values, double lo, double hi, const char* kind, ImportContext& context) {
-    for (double& v : values) v = in_range(v, lo, hi, kind, context);
-}
+// Factors are held to the spec's ranges (spec_range.h); emission strength to
+// k_max_emission_strength (scene/light_units.h).
 
 struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }

@@ -15,6 +15,12 @@ namespace veach {
 // film. The importer holds the file's value to it, pose_scene an animated one.
 constexpr float k_max_emission_strength = 1e9f;
 
+// The largest light intensity (candela, lux) or area-light power (watts) a light keeps: the
+// extension sets no upper bound, and past single precision (1.25e43 cd from 2.3e41 W) the light
+// would be lost on its way to the film. The importer holds the file's value to it, pose_scene an
+// animated one.
+constexpr float k_max_light_intensity = 1e30f;
+
 // KHR_lights_punctual's intensity (candela for point and spot, lux for directional) with its
 // colour, in Cycles' radiometric units: Blender writes W/(4 pi) x 683 lm/W (point, spot) and
 // W/m^2 x 683 (sun).

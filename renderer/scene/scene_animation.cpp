@@ -177,7 +177,7 @@ LocalLight relit(const LocalLight& l, const LightRest& rest, const LightRest& no
     PunctualLight light = *l.local;
     LocalLight out = l;
     Rgb color = clamped(now.color, 0.0f, 1e30f);
-    float intensity = clamped(now.intensity, 0.0f, 1e30f);
+    float intensity = clamped(now.intensity, 0.0f, k_max_light_intensity);
     if (light.type == LightType::Area) {
         auto ratio = [&](float c, float c0) {
             float r0 = c0 * rest.intensity;

@@ -86,6 +86,8 @@ def check_case(veach, c, timeout):
         return f"non-finite pixels {where}"
     if np.min(pixels) < 0:
         return f"negative pixels (min {np.min(pixels)}) {where}"
+    if c.get("lit") and ("has no lights" in err or not np.max(pixels[..., :3]) > 0):
+        return f"the scene's light does not light it (max {np.max(pixels[..., :3])}) {where}"
     return None
 
 

@@ -6,7 +6,8 @@ the contract it must keep:
   expect "refused": exit 2 (or `exit` when given), exactly one stderr line, containing `message`
                     when given, no image written;
   expect "rendered": exit 0, an image whose pixels are finite and >= 0, no non-finite sample
-                    dropped unless `nonfinite_ok`; `warning`, when given, appears on stderr.
+                    dropped unless `nonfinite_ok`; `warning`, when given, appears on stderr;
+                    with `lit`, the image is not black and no stand-in light was added.
 
 Every case also runs under an address-space limit (`memory_mb`, default 2048): a budget must
 refuse before the allocation it covers, never after. Cases are named after what they check.
@@ -26,12 +27,13 @@ CASES = []
 
 
 def case(name, files, expect, args=(), message=None, warning=None, exit_code=None, memory_mb=2048,
-         nonfinite_ok=False, input_name=None, limit_is_the_point=False):
+         nonfinite_ok=False, input_name=None, limit_is_the_point=False, lit=False):
     """`limit_is_the_point`: the contract is about what happens under `memory_mb` (a budget
-    refusing for lack of memory), so a run without limits (the sanitizer build) leaves it out."""
+    refusing for lack of memory), so a run without limits (the sanitizer build) leaves it out.
+    `lit`: the scene's own light lights the image (not black, no stand-in light added)."""
     CASES.append({"name": name, "files": files, "expect": expect, "args": list(args), "message": message,
                   "warning": warning, "exit": exit_code, "memory_mb": memory_mb, "nonfinite_ok": nonfinite_ok,
-                  "input": input_name, "limit_is_the_point": limit_is_the_point})
+                  "input": input_name, "limit_is_the_point": limit_is_the_point, "lit": lit})
 
 
 def f32(values):
@@ -206,6 +208,22 @@ def silent_wrong_image_cases():
             case(f"{name}_{integrator}",
                  {"scene.gltf": triangle_gltf(material={}, lights=[(light, {"translation": [0, 0, 0]})])},
                  "rendered", args=["--integrator", integrator])
+    # Light colours and intensities past the extension's ranges (colour in [0, 1], intensity
+    # >= 0; 2.3e41 W is 1.25e43 cd, past single precision) rendered black or were dropped, the
+    # scene lit by a white stand-in environment: held to range with a warning, the light kept.
+    for name, light, warning in [
+        ("point_light_2e41_watts_is_clamped", {"type": "point", "intensity": 2.3e41 / (4 * 3.14159265) * 683},
+         "light intensity"),
+        ("point_light_negative_intensity_is_clamped", {"type": "point", "intensity": -50, "color": [1, 1, 1]},
+         "light intensity"),
+        ("point_light_negative_colour_is_clamped", {"type": "point", "intensity": 50, "color": [-1, 0.5, 1]},
+         "light color"),
+        ("point_light_colour_1e39_is_clamped", {"type": "point", "intensity": 50, "color": [1e39, 1, 1]},
+         "light color"),
+    ]:
+        for integrator in ("pt", "bdpt"):
+            case(f"{name}_{integrator}", {"scene.gltf": triangle_gltf(material={}, lights=[(light, {})])},
+                 "rendered", args=["--integrator", integrator], warning=warning, lit="negative_intensity" not in name)
     # Float vertex colours multiply the base colour: negative or huge ones are clamped to [0, 1].
     for name, colour in [("vertex_colour_negative_is_clamped", [-2.0, -2.0, -2.0, 1.0]),
                          ("vertex_colour_1e30_is_clamped", [1e30, 1e30, 1e30, 1.0])]:
