@@ -95,6 +95,9 @@ struct UriPolicy {
     // (one byte each: tinygltf refuses an empty image; nothing decodes them).
     std::map<std::string, uint64_t> zero_files;
     uint64_t content_hash = 0;  // every file read so far, by content (Scene::content_hash)
+    // Files that exist but could not be read, and why (uri -> reason): tinygltf only warns about
+    // an image it could not read and leaves it empty, so the reason is given when it is decoded.
+    std::map<std::string, std::string> uri_of_path, unreadable;
 };
 
 // The path resolve_uri returns for a synthetic file: not a path any file system has.
@@ -137,13 +140,18 @@ std::string resolve_uri(const std::string& joined, void* user) {
         return std::string();
     };
     fs::path path(uri);
-    if (path.is_absolute()) return policy->allow_external ? path.string() : refuse("is an absolute path");
+    if (path.is_absolute()) {
+        if (!policy->allow_external) return refuse("is an absolute path");
+        policy->uri_of_path[path.string()] = uri;
+        return path.string();
+    }
     fs::path normal = path.lexically_normal();
     if (!normal.empty() && *normal.begin() == ".." && !policy->allow_external)
         return refuse("leads outside the scene's folder");
     fs::path resolved = policy->base_dir / normal;
     if (!policy->allow_external && !is_inside(real_path(resolved), real_path(policy->base_dir)))
         return refuse("leads outside the scene's folder through a symbolic link");
+    policy->uri_of_path[resolved.string()] = uri;
     return resolved.string();
 }
 
@@ -212,6 +220,9 @@ bool read_file(std::vector<unsigned char>* out, std::string* err, const std::str
         policy->content_hash = fnv1a_64(out->data(), out->size(), policy->content_hash);
         return true;
     }
+    auto* policy = static_cast<UriPolicy*>(user);
+    if (auto it = policy->uri_of_path.find(path); it != policy->uri_of_path.end())
+        policy->unreadable.emplace(it->second, error);
     if (err) *err += error;
     return false;
 }
@@ -407,6 +418,7 @@ public:
         m_scene.content_hash = m_uri_policy.content_hash;
         check_extensions();
         m_materials = std::make_unique<gltf::MaterialConverter>(m_model, *m_context);
+        m_materials->set_unreadable_images(m_uri_policy.unreadable);
         parse_lights();
         if (m_options.animate) {
             SceneAnimation& anim = m_scene.animation;

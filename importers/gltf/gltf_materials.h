@@ -34,6 +34,10 @@ public:
     // primitive used it.
     MaterialRest rest(int index) const;
 
+    // Image files that exist but could not be read (uri -> why: a FIFO, a device, a folder), so
+    // that a texture using one is refused with the reason.
+    void set_unreadable_images(std::map<std::string, std::string> why_by_uri) { m_unreadable = std::move(why_by_uri); }
+
 private:
     // A textureInfo's fields, from tinygltf's structs or from an extension's JSON value.
     struct TextureInfoFields {
@@ -57,6 +61,7 @@ private:
     std::vector<int32_t> m_material_slots;                     // glTF material -> scene index, -1 = not yet
     std::vector<std::pair<Rgb, float>> m_emissive;             // glTF material -> emissiveFactor, strength
     std::map<std::pair<int, ColorSpace>, int32_t> m_textures;  // (glTF texture, space) -> scene index
+    std::map<std::string, std::string> m_unreadable;           // image uri -> why it could not be read
 };
 
 }  // namespace veach::gltf

@@ -164,6 +164,7 @@ def confinement_cases():
          args=["--allow-external-files"], message="regular file")
     case("input_fifo_is_refused", {"scene.gltf": fifo}, "refused", message="regular file")
     case("input_directory_is_refused", {"scene.gltf": directory}, "refused", message="directory")
+    case("input_dev_zero_is_refused", {"scene.gltf": symlink_to("/dev/zero")}, "refused", message="regular file")
     plain = triangle_gltf()
     case("env_dev_zero_is_refused", {"scene.gltf": plain}, "refused", args=["--env", "/dev/zero"],
          message="regular file")
@@ -179,7 +180,11 @@ def confinement_cases():
     case("texture_symlink_outside_folder_is_refused",
          {"../outside_texture/tex.png": png, "scene.gltf": textured, "tex.png": symlink_to("../outside_texture/tex.png")},
          "refused", message="outside")
-    case("texture_fifo_is_refused", {"scene.gltf": textured, "tex.png": fifo}, "refused", message="image")
+    case("texture_fifo_is_refused", {"scene.gltf": textured, "tex.png": fifo}, "refused", message="regular file")
+    case("texture_directory_is_refused", {"scene.gltf": textured, "tex.png": directory}, "refused", message="directory")
+    device_textured = textured_triangle("/dev/zero")
+    case("texture_dev_zero_is_refused", {"scene.gltf": device_textured}, "refused", args=["--allow-external-files"],
+         message="regular file")
 
 
 def silent_wrong_image_cases():
