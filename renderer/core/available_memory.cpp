@@ -1,5 +1,7 @@
 #include "core/available_memory.h"
 
+#include "core/cgroup_folders.h"
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -28,29 +30,26 @@ uint64_t proc_kib(const char* path, const std::string& key) {
     return 0;
 }
 
-// The folder of this process's cgroup under /sys/fs/cgroup (v2: the "0::" line).
-std::string cgroup_folder() {
-    std::ifstream f("/proc/self/cgroup");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind("0::", 0) == 0) return "/sys/fs/cgroup" + line.substr(3);
-    return "/sys/fs/cgroup";
-}
-
 }  // namespace
+
+uint64_t cgroup_memory_headroom(const std::string& self_cgroup, const std::string& sys_fs_cgroup) {
+    uint64_t headroom = UINT64_MAX;
+    auto bound = [&](const std::string& limit_file, const std::string& usage_file) {
+        // "max" (v2) reads as 0: no limit there; v1's "no limit" is a huge number, which the min ignores.
+        if (const uint64_t limit = read_number(limit_file); limit > 0)
+            headroom = std::min(headroom, limit - std::min(limit, read_number(usage_file)));
+    };
+    for (const std::string& folder : cgroup_folders(self_cgroup, "", {sys_fs_cgroup, sys_fs_cgroup + "/unified"}))
+        bound(folder + "/memory.max", folder + "/memory.current");
+    for (const std::string& folder : cgroup_folders(self_cgroup, "memory", {sys_fs_cgroup + "/memory"}))
+        bound(folder + "/memory.limit_in_bytes", folder + "/memory.usage_in_bytes");
+    return headroom;
+}
 
 uint64_t available_memory_bytes() {
     uint64_t available = UINT64_MAX;
     if (uint64_t m = proc_kib("/proc/meminfo", "MemAvailable:"); m > 0) available = m;
-    // cgroup v2, at this process's cgroup and (in a container) at the root of the namespace.
-    for (const std::string& dir : {cgroup_folder(), std::string("/sys/fs/cgroup")}) {
-        const uint64_t limit = read_number(dir + "/memory.max");
-        if (limit > 0) available = std::min(available, limit - std::min(limit, read_number(dir + "/memory.current")));
-    }
-    // cgroup v1 (its "no limit" is a huge number, which the min ignores).
-    if (uint64_t limit = read_number("/sys/fs/cgroup/memory/memory.limit_in_bytes"); limit > 0)
-        available =
-            std::min(available, limit - std::min(limit, read_number("/sys/fs/cgroup/memory/memory.usage_in_bytes")));
+    available = std::min(available, cgroup_memory_headroom(read_self_cgroup(), "/sys/fs/cgroup"));
     rlimit as{};
     if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
         const uint64_t used = proc_kib("/proc/self/status", "VmSize:");
