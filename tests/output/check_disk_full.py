@@ -10,6 +10,13 @@ The same renders on a filesystem with room write files OpenImageIO reads back (s
 fails if the small filesystem were not what stopped them). `--stats-json /dev/full` fails the
 same way (a device is written in place, every write checked).
 
+With --host, the same through the C API inside one host process (disk_full_host.c, linking
+libveach): veachWriteImage of every format (and a .vpart) on a disk too small for it returns
+VEACH_ERROR_OUTPUT naming the file and "No space left on device", leaves the previous file and
+no temporary; veachWriteFile to /dev/full and a render whose checkpoint does not fit fail the
+same way; and the host is still alive after all of them (libjpeg's error handler calls exit():
+the encoders never write to the disk themselves).
+
 The small filesystems are tmpfs mounts with size=, made in a private mount namespace
 (`unshare -m`, or `unshare -r -m` when not root): they vanish with the process, nothing to clean.
 Exit 0 pass, 1 fail.
@@ -26,6 +33,8 @@ from check_report import FAILURES, check, import_oiio  # noqa: E402
 oiio = import_oiio()
 
 FORMATS = ["exr", "hdr", "png", "jpg", "tif"]
+HOST_FORMATS = FORMATS + ["vpart"]
+VEACH_ERROR_NONE, VEACH_ERROR_OUTPUT = 0, 4
 
 
 def mount_tmpfs(folder, size):
@@ -107,10 +116,60 @@ def in_namespace(veach, scene, root):
     expect_refused(result, "/dev/full", "--stats-json /dev/full")
 
 
+def host_in_namespace(host, scene, root):
+    roomy = os.path.join(root, "roomy")
+    mount_tmpfs(roomy, "64m")
+    for ext in HOST_FORMATS:
+        small = os.path.join(root, f"small_{ext}")
+        mount_tmpfs(small, "16k")
+        with open(os.path.join(small, f"image.{ext}"), "w") as f:
+            f.write("old")
+    mount_tmpfs(os.path.join(root, "small_checkpoint"), "256k")
+    result = subprocess.run([host, scene, root], capture_output=True, text=True, timeout=300)
+    lines = result.stdout.splitlines()
+    check(result.returncode == 0 and lines and lines[-1] == "host alive after every write",
+          f"the host did not survive its writes: exit {result.returncode}, last line "
+          f"{lines[-1] if lines else None!r}, stderr {result.stderr.strip()!r}")
+    reports = {}
+    for line in lines[:-1]:
+        what, path, code, message = line.split("\t")
+        reports[(what, path)] = (int(code), message)
+
+    def expect(what, path, code, cause=None):
+        got = reports.get((what, path))
+        if not check(got is not None, f"{what} {path}: not reported"):
+            return
+        check(got[0] == code, f"{what} {path}: error {got[0]} ({got[1]}), expected {code}")
+        if cause:
+            check(path in got[1] and cause in got[1], f"{what} {path}: message does not name the file and the cause: {got[1]!r}")
+
+    for ext in HOST_FORMATS:
+        path = os.path.join(roomy, f"ok.{ext}")
+        expect("roomy", path, VEACH_ERROR_NONE)
+        if ext != "vpart":
+            buf = oiio.ImageBuf(path)
+            check(not buf.has_error and buf.spec().width == 256, f"host control {ext}: not a readable 256 px image")
+        else:
+            check(os.path.getsize(path) > 16384, f"host control vpart: {os.path.getsize(path)} bytes fit the small disk")
+    only_entries(roomy, [f"ok.{ext}" for ext in HOST_FORMATS], "host control")
+    for ext in HOST_FORMATS:
+        small = os.path.join(root, f"small_{ext}")
+        target = os.path.join(small, f"image.{ext}")
+        expect("small", target, VEACH_ERROR_OUTPUT, "No space left on device")
+        with open(target) as f:
+            check(f.read() == "old", f"host {ext}: the previous file was changed")
+        only_entries(small, [f"image.{ext}"], f"host {ext}")
+    expect("devfull", "/dev/full", VEACH_ERROR_OUTPUT, "No space left on device")
+    checkpoint = os.path.join(root, "small_checkpoint", "ck.checkpoint")
+    expect("checkpoint", checkpoint, VEACH_ERROR_OUTPUT, "No space left on device")
+    only_entries(os.path.join(root, "small_checkpoint"), [], "host checkpoint")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--veach", required=True)
     ap.add_argument("--scene", required=True)
+    ap.add_argument("--host", help="the C API host (disk_full_host.c) instead of the command")
     ap.add_argument("--inside", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if not args.inside:
@@ -118,16 +177,25 @@ def main():
         unshare = ["unshare", "-m"] if os.geteuid() == 0 else ["unshare", "-r", "-m"]
         cmd = unshare + [sys.executable, os.path.abspath(__file__), "--inside", "--veach",
                          os.path.abspath(args.veach), "--scene", os.path.abspath(args.scene)]
+        if args.host:
+            cmd += ["--host", os.path.abspath(args.host)]
         return subprocess.run(cmd).returncode
     with tempfile.TemporaryDirectory(prefix="veach_disk_full_") as root:
-        in_namespace(args.veach, args.scene, root)
+        if args.host:
+            host_in_namespace(args.host, args.scene, root)
+        else:
+            in_namespace(args.veach, args.scene, root)
         # Unmount before the temporary folder is removed (the namespace would drop them anyway).
         for entry in os.listdir(root):
             subprocess.run(["umount", os.path.join(root, entry)], check=False)
     if FAILURES:
         print(f"{len(FAILURES)} failure(s)")
         return 1
-    print("disk full: every format, the checkpoint and the stats refused with exit 3, nothing torn")
+    if args.host:
+        print("disk full in a host: every format, /dev/full and the checkpoint returned VEACH_ERROR_OUTPUT, "
+              "nothing torn, the host alive")
+    else:
+        print("disk full: every format, the checkpoint and the stats refused with exit 3, nothing torn")
     return 0
 
 
