@@ -15,6 +15,7 @@ import concurrent.futures
 import json
 import os
 import resource
+import shlex
 import signal
 import subprocess
 import sys
@@ -112,6 +113,28 @@ def check_reader_gone(veach, cases_dir):
     return None
 
 
+def check_head_one_line(veach, cases_dir):
+    """`veach render ... 2>&1 | head -1` as typed in a shell: head leaves after the first line
+    while the render still prints progress (checked: the same render prints more than one line),
+    and the render must finish, exit 0 and write its image."""
+    folder = os.path.join(cases_dir, "stderr_head_one_line")
+    os.makedirs(folder, exist_ok=True)
+    image = os.path.join(folder, "out.exr")
+    scene = os.path.join(cases_dir, "camera_scale_huge_uniform_renders", "scene.gltf")
+    cmd = [veach, "render", scene, "-o", image, "--width", "64", "--spp", "256", "--threads", "1"]
+    full = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    if full.returncode != 0 or len(full.stdout.splitlines()) < 2:
+        return f"the render alone: exit {full.returncode}, {len(full.stdout.splitlines())} lines (need 2 or more)"
+    os.remove(image)
+    shell = " ".join(shlex.quote(a) for a in cmd) + ' 2>&1 | head -1; exit "${PIPESTATUS[0]}"'
+    p = subprocess.run(["bash", "-c", shell], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=120)
+    if p.returncode != 0:
+        return f"exit {p.returncode} under `| head -1` (SIGPIPE would be {128 + signal.SIGPIPE})"
+    if not os.path.exists(image):
+        return "no image written under `| head -1`"
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--veach", required=True)
@@ -141,6 +164,7 @@ def main():
         results = list(pool.map(lambda c: (c, check_case(args.veach, c, args.timeout)), cases))
     if not args.only:
         results.append(({"name": "stderr_reader_gone"}, check_reader_gone(args.veach, args.cases)))
+        results.append(({"name": "stderr_head_one_line"}, check_head_one_line(args.veach, args.cases)))
     for c, fault in results:
         if fault:
             failures += 1

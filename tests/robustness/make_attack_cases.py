@@ -229,6 +229,21 @@ def silent_wrong_image_cases():
         for integrator in ("pt", "bdpt"):
             case(f"{name}_{integrator}", {"scene.gltf": triangle_gltf(material={}, lights=[(light, {})])},
                  "rendered", args=["--integrator", integrator], warning=warning, lit="negative_intensity" not in name)
+    # A sun over a scene 1e17 across (its emission disc's area is 1e34 m^2).
+    def far_copy(g):
+        g["nodes"].append({"name": "far", "mesh": 0, "translation": [1e17, 0, 0]})
+        g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+
+    for integrator in ("pt", "bdpt", "lt"):
+        wide = triangle_gltf(material={}, lights=[({"type": "directional", "intensity": 3.0}, {})], extra=far_copy)
+        case(f"sun_over_a_scene_1e17_across_renders_{integrator}", {"scene.gltf": wide}, "rendered",
+             args=["--integrator", integrator])
+    # Negative factors clamped: pt and bdpt both non-negative (they disagreed in sign before).
+    for integrator in ("pt", "bdpt"):
+        case(f"base_color_negative_is_clamped_{integrator}",
+             {"scene.gltf": triangle_gltf(material={"pbrMetallicRoughness": {"baseColorFactor": [-1, -2, 0.5, 1]}},
+                                          lights=lit)}, "rendered", args=["--integrator", integrator],
+             warning="baseColorFactor")
     # Float vertex colours multiply the base colour: negative or huge ones are clamped to [0, 1].
     for name, colour in [("vertex_colour_negative_is_clamped", [-2.0, -2.0, -2.0, 1.0]),
                          ("vertex_colour_1e30_is_clamped", [1e30, 1e30, 1e30, 1.0])]:
