@@ -346,7 +346,8 @@ Texture MaterialConverter::decode(int texture_index, int image_index, ColorSpace
     std::span<const uint8_t> bytes(image.image.data(), image.image.size());
     if (image.bufferView >= 0) bytes = buffer_view_bytes(m_model, image.bufferView, where);
     if (bytes.empty()) {
-        if (auto why = m_unreadable.find(image.uri); why != m_unreadable.end()) throw GltfError(where + ": " + why->second);
+        if (auto why = m_unreadable.find(image.uri); why != m_unreadable.end())
+            throw GltfError(where + ": " + why->second);
         throw GltfError(where + ": no image data (missing or unreadable file?)");
     }
     if (bytes.size() > static_cast<size_t>(INT_MAX)) throw GltfError(where + ": image data too large");

@@ -38,23 +38,23 @@ int tightest_quota(const std::vector<std::string>& folders, CpusIn&& cpus_in) {
 // cgroup v2: cpu.max. The unified hierarchy is at /sys/fs/cgroup, or at /sys/fs/cgroup/unified
 // on hybrid systems.
 int cgroup_v2_cpus(const std::string& self) {
-    return tightest_quota(cgroup_folders(self, "", {"/sys/fs/cgroup", "/sys/fs/cgroup/unified"}),
-                          [](const std::string& folder) {
+    auto cpus_in = [](const std::string& folder) {
         std::ifstream f(folder + "/cpu.max");
         std::string text;
         return std::getline(f, text) ? cpus_from_cpu_max(text) : 0;
-    });
+    };
+    return tightest_quota(cgroup_folders(self, "", {"/sys/fs/cgroup", "/sys/fs/cgroup/unified"}), cpus_in);
 }
 
 // cgroup v1: cpu.cfs_quota_us over cpu.cfs_period_us (-1: none) in the cpu controller's
 // hierarchy, mounted as cpu or as cpu,cpuacct.
 int cgroup_v1_cpus(const std::string& self) {
-    return tightest_quota(cgroup_folders(self, "cpu", {"/sys/fs/cgroup/cpu", "/sys/fs/cgroup/cpu,cpuacct"}),
-                          [](const std::string& folder) {
+    auto cpus_in = [](const std::string& folder) {
         std::ifstream q(folder + "/cpu.cfs_quota_us"), p(folder + "/cpu.cfs_period_us");
         double quota = 0, period = 0;
         return q >> quota && p >> period ? quota_cpus(quota, period) : 0;
-    });
+    };
+    return tightest_quota(cgroup_folders(self, "cpu", {"/sys/fs/cgroup/cpu", "/sys/fs/cgroup/cpu,cpuacct"}), cpus_in);
 }
 
 }  // namespace
