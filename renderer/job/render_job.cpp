@@ -170,6 +170,14 @@ RenderResult render_scene(const Scene& scene, const RenderJobOptions& options, c
     RenderSettings chosen = options.render;
     result.integrator = chosen.integrator;
     std::unique_ptr<Integrator> integrator = make_integrator(chosen);
+    // Adaptive sampling stops a pixel once its own estimate has converged; light tracing's pixels
+    // hold no estimate of their own (every light path lands anywhere on the film), so a noise
+    // threshold does not apply there. Said, not dropped silently (a host such as Blender passes
+    // Cycles' threshold whatever the integrator).
+    if (chosen.noise_target > 0 && !integrator->pixels_hold_estimates())
+        result.warnings.push_back("the noise threshold (adaptive sampling) does not apply to the " + chosen.integrator +
+                                  " integrator, whose light paths land anywhere on the film: every pixel gets the "
+                                  "full samples");
 
     result.camera_name = camera ? camera->name : "default";
     result.triangles = scene.triangle_count();

@@ -825,3 +825,28 @@ TEST_F(CApi, OpenImageIOIsLoadedOnlyByTheFirstImageReadOrWritten) {
     veachReleaseScene(scene);
     std::filesystem::remove_all(dir);
 }
+
+// Options that do not apply to the chosen integrator are refused (a bdpt strategy with pt or lt:
+// BdptStrategyWithAnotherIntegratorIsRefused) or said: a noise threshold with lt, whose pixels
+// hold no estimate of their own, renders every pixel to the samples asked for with a warning
+// (Blender's add-on passes Cycles' threshold whatever the integrator, so this is not refused).
+TEST_F(CApi, NoiseThresholdWithLightTracingIsWarnedNotDroppedSilently) {
+    VeachScene s = veachNewSceneFromFile(m_device, k_cornell.c_str());
+    ASSERT_NE(s, nullptr);
+    for (const char* integrator : {"lt", "pt"}) {
+        VeachRender r = new_cornell_render(s, 8);
+        ASSERT_EQ(veachSetString(r, "integrator", integrator), VEACH_ERROR_NONE);
+        ASSERT_EQ(veachSetFloat(r, "noise", 0.5), VEACH_ERROR_NONE);
+        ASSERT_EQ(veachRender(r), VEACH_ERROR_NONE) << veachGetLastError();
+        const std::string warnings = render_string(r, "result_warnings");
+        const bool lt = std::string(integrator) == "lt";
+        EXPECT_EQ(warnings.find("noise threshold") != std::string::npos, lt) << integrator << ": " << warnings;
+        if (lt) {
+            std::vector<float> samples(48 * 48 * 4);
+            ASSERT_EQ(veachGetPass(r, "samples", samples.data(), samples.size() * sizeof(float), 0), VEACH_ERROR_NONE);
+            for (size_t i = 0; i < samples.size(); i += 4) ASSERT_EQ(samples[i], 8.0f) << "pixel " << i / 4;
+        }
+        veachReleaseRender(r);
+    }
+    veachReleaseScene(s);
+}
