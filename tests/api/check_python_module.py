@@ -21,14 +21,8 @@ import subprocess
 import sys
 import tempfile
 
-failures = []
-
-
-def check(ok, message):
-    if not ok:
-        failures.append(message)
-        print("FAIL:", message, file=sys.stderr)
-    return ok
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check  # noqa: E402
 
 
 CHILD = r"""
@@ -121,8 +115,8 @@ def main():
         check(status == 3 and 0 < spp < 100000 and finite and progressed, f"cancel: {report['cancel']}")
         print(f"veach {report['version']} from the prefix's site folder: render equal to the CLI's EXR bit for bit; "
               f"errors as exceptions; cancel after {spp} spp")
-    if failures:
-        print(f"{len(failures)} failed", file=sys.stderr)
+    if FAILURES:
+        print(f"{len(FAILURES)} failed", file=sys.stderr)
         return 1
     return 0
 

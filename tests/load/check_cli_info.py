@@ -20,14 +20,8 @@ import subprocess
 import sys
 import tempfile
 
-failures = []
-
-
-def check(ok, message):
-    if not ok:
-        failures.append(message)
-        print("FAIL:", message, file=sys.stderr)
-    return ok
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check  # noqa: E402
 
 
 def info(veach, *args):
@@ -96,8 +90,8 @@ def main():
 
     r = subprocess.run([v, "info", "/nonexistent/scene.gltf"], capture_output=True, text=True, timeout=60)
     check(r.returncode == 2 and r.stderr.count("\n") == 1, f"missing file: {r.returncode} {r.stderr!r}")
-    if failures:
-        print(f"{len(failures)} failed", file=sys.stderr)
+    if FAILURES:
+        print(f"{len(FAILURES)} failed", file=sys.stderr)
         return 1
     print("veach info: cameras, scenes, variants, animations, lights, triangles, textures and memory as the files say")
     return 0

@@ -24,14 +24,8 @@ import subprocess
 import sys
 import tempfile
 
-failures = []
-
-
-def check(ok, message):
-    if not ok:
-        failures.append(message)
-        print("FAIL:", message, file=sys.stderr)
-    return ok
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from check_report import FAILURES, check  # noqa: E402
 
 
 def run(veach, *args):
@@ -225,8 +219,8 @@ def main():
         cli11_behaviours(args.veach, args.scene, out, folder)
         stats_json(args.veach, args.scene, folder)
         preview_every(args.veach, args.scene, folder)
-    if failures:
-        print(f"{len(failures)} failed", file=sys.stderr)
+    if FAILURES:
+        print(f"{len(FAILURES)} failed", file=sys.stderr)
         return 1
     print("all passed")
     return 0
