@@ -47,6 +47,27 @@ inline double channel_mean(const Image& img, int c) {
 }
 
 // Means of `block` x `block` pixel blocks, channel-averaged.
+// Per quantity k, the mean over independent runs of runs[r][k] and its standard error (the
+// runs' sample standard deviation over sqrt(runs)): what the paired z-tests compare.
+struct RunEstimate {
+    std::vector<double> mean, se;
+};
+inline RunEstimate mean_and_standard_error(const std::vector<std::vector<double>>& runs) {
+    RunEstimate e;
+    const double n = static_cast<double>(runs.size());
+    for (size_t k = 0; k < runs[0].size(); ++k) {
+        double sum = 0, sum2 = 0;
+        for (const std::vector<double>& run : runs) {
+            sum += run[k];
+            sum2 += run[k] * run[k];
+        }
+        const double m = sum / n;
+        e.mean.push_back(m);
+        e.se.push_back(std::sqrt(std::max(0.0, (sum2 / n - m * m) * n / (n - 1)) / n));
+    }
+    return e;
+}
+
 inline std::vector<double> block_means(const Image& img, int block) {
     std::vector<double> out;
     for (int by = 0; by + block <= img.height; by += block)

@@ -133,26 +133,13 @@ TEST(MotionBlur, AnEmptyShutterOrAStillSceneRendersBitForBitAsWithoutOne) {
 }
 
 // Block means of `runs` renders with different seeds: their mean and standard error per block.
-struct BlockEstimate {
-    std::vector<double> mean, se;
-};
+using BlockEstimate = test::RunEstimate;
 
 BlockEstimate block_estimate(const Scene& s, const std::string& integrator, int spp, int runs, uint64_t seed) {
     std::vector<std::vector<double>> blocks;
     for (int r = 0; r < runs; ++r)
         blocks.push_back(test::block_means(test::render(s, 32, spp, integrator, 8, 0, seed + r, nullptr, -1, -1, 16), 8));
-    BlockEstimate e;
-    for (size_t k = 0; k < blocks[0].size(); ++k) {
-        double sum = 0, sum2 = 0;
-        for (int r = 0; r < runs; ++r) {
-            sum += blocks[r][k];
-            sum2 += blocks[r][k] * blocks[r][k];
-        }
-        const double m = sum / runs;
-        e.mean.push_back(m);
-        e.se.push_back(std::sqrt(std::max(0.0, (sum2 / runs - m * m) * runs / (runs - 1)) / runs));
-    }
-    return e;
+    return test::mean_and_standard_error(blocks);
 }
 
 TEST(MotionBlur, PtAndBdptAgreeOnAPanningPerspectiveCamera) {

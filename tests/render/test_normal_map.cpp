@@ -215,9 +215,7 @@ void emissive_square(Scene* s) {
 
 // Block means (4 x 4 blocks of 16 x 16 pixels and the image mean) over `runs` renders with
 // different seeds: their mean and standard error.
-struct BlockEstimate {
-    std::vector<double> mean, se;
-};
+using BlockEstimate = test::RunEstimate;
 
 BlockEstimate block_estimate(const Scene& s, const std::string& integrator, int spp, int runs, uint64_t seed) {
     std::vector<std::vector<double>> blocks;
@@ -229,18 +227,7 @@ BlockEstimate block_estimate(const Scene& s, const std::string& integrator, int 
         b.push_back((test::channel_mean(img, 0) + test::channel_mean(img, 1) + test::channel_mean(img, 2)) / 3);
         blocks.push_back(b);
     }
-    BlockEstimate e;
-    for (size_t k = 0; k < blocks[0].size(); ++k) {
-        double sum = 0, sum2 = 0;
-        for (int r = 0; r < runs; ++r) {
-            sum += blocks[r][k];
-            sum2 += blocks[r][k] * blocks[r][k];
-        }
-        const double m = sum / runs;
-        e.mean.push_back(m);
-        e.se.push_back(std::sqrt(std::max(0.0, (sum2 / runs - m * m) * runs / (runs - 1)) / runs));
-    }
-    return e;
+    return test::mean_and_standard_error(blocks);
 }
 
 // |z| of every block mean and the image mean of `b` against `a` below 4.5. The standard errors
