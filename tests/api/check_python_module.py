@@ -22,7 +22,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from check_report import FAILURES, check  # noqa: E402
+from check_report import check, exit_code  # noqa: E402
 
 
 CHILD = r"""
@@ -115,10 +115,7 @@ def main():
         check(status == 3 and 0 < spp < 100000 and finite and progressed, f"cancel: {report['cancel']}")
         print(f"veach {report['version']} from the prefix's site folder: render equal to the CLI's EXR bit for bit; "
               f"errors as exceptions; cancel after {spp} spp")
-    if FAILURES:
-        print(f"{len(FAILURES)} failed", file=sys.stderr)
-        return 1
-    return 0
+    return exit_code()
 
 
 if __name__ == "__main__":

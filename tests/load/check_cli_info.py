@@ -21,7 +21,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from check_report import FAILURES, check  # noqa: E402
+from check_report import check, exit_code  # noqa: E402
 
 
 def info(veach, *args):
@@ -90,11 +90,7 @@ def main():
 
     r = subprocess.run([v, "info", "/nonexistent/scene.gltf"], capture_output=True, text=True, timeout=60)
     check(r.returncode == 2 and r.stderr.count("\n") == 1, f"missing file: {r.returncode} {r.stderr!r}")
-    if FAILURES:
-        print(f"{len(FAILURES)} failed", file=sys.stderr)
-        return 1
-    print("veach info: cameras, scenes, variants, animations, lights, triangles, textures and memory as the files say")
-    return 0
+    return exit_code("veach info: cameras, scenes, variants, animations, lights, triangles, textures and memory as the files say")
 
 
 if __name__ == "__main__":

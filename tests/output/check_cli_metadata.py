@@ -21,7 +21,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from check_report import FAILURES, check  # noqa: E402
+from check_report import check, exit_code  # noqa: E402
 
 
 def render(veach, scene, out, *extra):
@@ -73,11 +73,7 @@ def main():
         r = subprocess.run([v, "render", scene, "-o", adaptive, "--width", "32", "--integrator", "pt",
                             "--skip-existing", *extra], capture_output=True, text=True, timeout=300)
         check(r.returncode == 0 and "skipped" in r.stderr, f"--skip-existing on a complete adaptive image: {r.stderr!r}")
-    if FAILURES:
-        print(f"{len(FAILURES)} failed", file=sys.stderr)
-        return 1
-    print("metadata: numbers as numbers, --attrib, veach:spp with --noise from the Sample Count pass")
-    return 0
+    return exit_code("metadata: numbers as numbers, --attrib, veach:spp with --noise from the Sample Count pass")
 
 
 if __name__ == "__main__":

@@ -25,7 +25,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from check_report import FAILURES, check  # noqa: E402
+from check_report import check, exit_code  # noqa: E402
 
 
 def run(veach, *args):
@@ -219,11 +219,7 @@ def main():
         cli11_behaviours(args.veach, args.scene, out, folder)
         stats_json(args.veach, args.scene, folder)
         preview_every(args.veach, args.scene, folder)
-    if FAILURES:
-        print(f"{len(FAILURES)} failed", file=sys.stderr)
-        return 1
-    print("all passed")
-    return 0
+    return exit_code("all passed")
 
 
 if __name__ == "__main__":

@@ -17,6 +17,16 @@ def check(condition, message):
     return condition
 
 
+def exit_code(passed_message=""):
+    """0 with `passed_message` printed when no check failed, else 1 with the count on stderr."""
+    if FAILURES:
+        print(f"{len(FAILURES)} failed", file=sys.stderr)
+        return 1
+    if passed_message:
+        print(passed_message)
+    return 0
+
+
 def import_oiio():
     """OpenImageIO's Python module, or a failure (not a skip: install-deps.sh installs it)."""
     try:
