@@ -224,6 +224,16 @@ def default_device():
     return _default_device
 
 
+def _get(lib, getters, handle, kind, name):
+    """One option or result through the getter its type calls for."""
+    get_int, get_float, get_string = getters
+    if kind == "string":
+        return _string(lib, get_string, handle, name)
+    v = ctypes.c_double() if kind == "float" else ctypes.c_longlong()
+    _check(lib, (get_float if kind == "float" else get_int)(handle, name.encode(), ctypes.byref(v)))
+    return v.value
+
+
 def _set(lib, setters, handle, kind, name, value):
     """One option through the setter its type calls for (a result name or an unknown name falls to
     the value's own type, and the library says what is wrong)."""
@@ -278,15 +288,8 @@ class Scene:
         kind = self.device.option_type("scene", name)
         if kind is None:
             kind = "string" if name in ("source", "features", "warnings", "info") else "int"
-        if kind == "string":
-            return _string(lib, lib.veachGetSceneString, self.handle, name)
-        if kind == "float":
-            v = ctypes.c_double()
-            _check(lib, lib.veachGetSceneFloat(self.handle, name.encode(), ctypes.byref(v)))
-            return v.value
-        v = ctypes.c_longlong()
-        _check(lib, lib.veachGetSceneInt(self.handle, name.encode(), ctypes.byref(v)))
-        return v.value
+        return _get(lib, (lib.veachGetSceneInt, lib.veachGetSceneFloat, lib.veachGetSceneString), self.handle,
+                    kind, name)
 
     @property
     def cameras(self):
@@ -355,15 +358,7 @@ class Render:
         kind = self.device.option_type("render", name)
         if kind is None:
             kind = "string" if name in _RESULT_STRINGS else "float" if name in _RESULT_FLOATS else "int"
-        if kind == "string":
-            return _string(lib, lib.veachGetString, self.handle, name)
-        if kind == "float":
-            v = ctypes.c_double()
-            _check(lib, lib.veachGetFloat(self.handle, name.encode(), ctypes.byref(v)))
-            return v.value
-        v = ctypes.c_longlong()
-        _check(lib, lib.veachGetInt(self.handle, name.encode(), ctypes.byref(v)))
-        return v.value
+        return _get(lib, (lib.veachGetInt, lib.veachGetFloat, lib.veachGetString), self.handle, kind, name)
 
     def _progress(self, progress):
         """progress(fraction, eta_seconds), called after each pass on the render's thread;
